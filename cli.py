@@ -1,0 +1,118 @@
+"""wallsim command line: parse, dispatch, print. The work happens in the packages.
+
+Bad input ends with one line on stderr naming the parameter and its valid range, and
+exit code 2 -- never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from analytic.errors import InvalidParameter
+
+EXIT_BAD_INPUT = 2
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports a usage error in one line (no usage dump)."""
+
+    def error(self, message: str):  # noqa: D401 - argparse API
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        sys.exit(EXIT_BAD_INPUT)
+
+
+def _number(name: str, lo=None, hi=None, *, lo_open=True, hi_open=True, unit=""):
+    """argparse type: a finite float in a range, with a one-line message naming both."""
+    from analytic.inputs import require_number
+
+    def parse(text: str) -> float:
+        try:
+            return require_number(name, text, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
+        except InvalidParameter as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
+    parse.__name__ = name
+    return parse
+
+
+def _add_theory(sub):
+    p = sub.add_parser("theory", help="closed-form and arching earth pressure for one wall",
+                       description="Every closed-form and arching method side by side. "
+                                   "Defaults: Nadukuru & Michalowski's translation case.")
+    p.add_argument("--phi", type=_number("phi", 0, 90, unit="deg"), default=34.0, help="friction angle [deg] (34)")
+    p.add_argument("--delta", type=_number("delta", -90, 90, unit="deg"), default=24.7,
+                   help="wall friction angle [deg], |delta| <= phi (24.7)")
+    p.add_argument("--H", type=_number("H", 0, None, unit="m"), default=3.1, help="wall height [m] (3.1)")
+    p.add_argument("--gamma", type=_number("gamma", 0, None, unit="kN/m^3"), default=16.7,
+                   help="unit weight [kN/m^3] (16.7)")
+    p.add_argument("--beta", type=_number("beta", -90, 90, unit="deg"), default=0.0,
+                   help="backfill slope [deg], + rising away from the wall (0)")
+    p.add_argument("--omega", type=_number("omega", -90, 90, unit="deg"), default=0.0,
+                   help="back-face inclination from vertical [deg], + heel under the fill (0)")
+    p.add_argument("--q", type=_number("q", 0, None, lo_open=False, unit="kPa"), default=0.0,
+                   help="surcharge [kPa] (0)")
+    p.add_argument("--kh", type=_number("kh", 0, 1, lo_open=False), default=0.0, help="horizontal seismic coefficient (0)")
+    p.add_argument("--kv", type=_number("kv", -1, 1), default=0.0, help="vertical seismic coefficient, + upward (0)")
+    p.add_argument("--width", type=_number("width", 0, None, unit="m"), default=None,
+                   help="backfill width B for Janssen's slot [m] (default: H)")
+    p.add_argument("--ps-exponent", choices=["iii", "i"], default="iii",
+                   help="Paik-Salgado profile exponent form (see analytic/arching.py)")
+    p.add_argument("--passive", action="store_true", help="passive instead of active")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--plot", metavar="FILE.png", help="draw sigma_h(z) of every method")
+    p.set_defaults(func=_cmd_theory)
+
+
+def _cmd_theory(args) -> int:
+    from analytic import Soil, Wall
+    from analytic.summary import theory_table
+    from workflows.report import theory_json, theory_text
+
+    soil = Soil(args.phi, args.gamma * 1e3)
+    wall = Wall(args.H, args.delta, args.omega, args.beta, args.q * 1e3)
+    rows = theory_table(soil, wall, kh=args.kh, kv=args.kv, passive=args.passive,
+                        width=args.width, ps_exponent=args.ps_exponent)
+    if args.json:
+        print(json.dumps(theory_json(soil, wall, rows, args.passive), indent=2))
+    else:
+        _console().print(theory_text(soil, wall, rows, args.passive))
+    if args.plot:
+        from viz.figures import plot_theory_profiles
+        plot_theory_profiles(rows, wall, args.plot)
+        print(f"wrote {args.plot}", file=sys.stderr)
+    return 0
+
+
+def _console():
+    from rich.console import Console
+    return Console()
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="wallsim", description="Earth pressure on retaining walls: theory and DEM.")
+    parser.add_argument("--version", action="version", version=f"wallsim {_version()}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    _add_theory(sub)
+    return parser
+
+
+def _version() -> str:
+    try:
+        from importlib.metadata import version
+        return version("wallsim")
+    except Exception:
+        return "unknown"
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except InvalidParameter as err:
+        sys.stderr.write(f"wallsim: error: {err}\n")
+        return EXIT_BAD_INPUT
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,59 @@
+"""Formatting of results for people (rich tables) and programs (JSON-ready dicts).
+
+Pure: builds renderables and dicts; the CLI prints them.
+"""
+
+from __future__ import annotations
+
+from rich.console import Group
+from rich.table import Table
+from rich.text import Text
+
+from analytic.inputs import Soil, Wall
+from analytic.summary import MethodRow
+
+SIGN_CONVENTION = ("sigma_h: normal stress on the wall face, compression positive; "
+                   "tau: shear on the face, positive down the face (active); "
+                   "K = 2P/(gamma H^2) along each method's own thrust direction, Kh its horizontal part; "
+                   "h/H: height of the resultant above the base")
+
+
+def theory_json(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool) -> dict:
+    return {
+        "inputs": {"phi_deg": soil.phi_deg, "gamma_kN_per_m3": soil.unit_weight / 1e3,
+                   "H_m": wall.height, "delta_deg": wall.delta_deg, "omega_deg": wall.omega_deg,
+                   "beta_deg": wall.beta_deg, "q_kPa": wall.surcharge / 1e3, "passive": passive},
+        "sign_convention": SIGN_CONVENTION,
+        "methods": [r.profile.as_dict() if r.profile is not None
+                    else {"name": r.name, "K": None, "Kh": None, "thrust_kN_per_m": None,
+                          "resultant_height_over_H": None, "source": "", "not_applicable": r.reason}
+                    for r in rows],
+    }
+
+
+def theory_text(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool):
+    title = (f"{'Passive' if passive else 'Active / at-rest'} earth pressure: phi = {soil.phi_deg:g} deg, "
+             f"delta = {wall.delta_deg:g} deg, H = {wall.height:g} m, gamma = {soil.unit_weight / 1e3:g} kN/m3"
+             + (f", beta = {wall.beta_deg:g} deg" if wall.beta_deg else "")
+             + (f", omega = {wall.omega_deg:g} deg" if wall.omega_deg else "")
+             + (f", q = {wall.surcharge / 1e3:g} kPa" if wall.surcharge else ""))
+    t = Table(title=title, title_justify="left")
+    for col in ("method", "K", "Kh", "thrust kN/m", "h/H", "status"):
+        t.add_column(col, justify="left" if col in ("method", "status") else "right", no_wrap=True)
+    sources = Text()
+    for r in rows:
+        p = r.profile
+        if p is None:
+            t.add_row(r.name, "n/a", "", "", "", "not applicable")
+            sources.append(f"{r.name}: n/a: {r.reason}\n", style="dim")
+            continue
+        status = "verified" if p.status == "verified" else "[yellow]reconstruction[/yellow]"
+        t.add_row(p.method, f"{p.K:.4f}", f"{p.Kh:.4f}", f"{p.thrust / 1e3:.2f}",
+                  f"{p.height_over_H:.3f}", status)
+        sources.append(f"{p.method}: {p.source}" + (f" [{p.notes}]" if p.notes else "") + "\n",
+                       style="dim")
+    foot = Text(SIGN_CONVENTION, style="dim")
+    if any(r.profile is not None and r.profile.status != "verified" for r in rows):
+        foot.append("\nreconstruction = the original paper's profile equation could not be read; "
+                    "see analytic/arching.py for what is and is not verified.", style="dim")
+    return Group(t, sources, foot)
