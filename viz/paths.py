@@ -1,0 +1,51 @@
+"""The fixed entity-path scheme and timelines of every wallsim recording.
+
+World (2D or 3D scene, in metres)::
+
+    world/particles        Points2D/3D: positions per frame; radii static; colours per frame
+    world/blocks           LineStrips2D: outlines of polygon blocks (dry-stone walls)
+    world/wall             LineStrips: wall panels, coloured by normal stress
+    world/force_chains     LineStrips: contacts above the mean normal force, radius ~ force
+    world/displacement     Arrows: particle displacement since the first frame (subsampled)
+
+Wall pressure profile (a 2D plot: x = sigma_h / (gamma H), y = -depth / H)::
+
+    profile/dem            LineStrips2D + Points2D of the DEM panel stresses, per frame
+    profile/theory/<name>  LineStrips2D of each theory's sigma_h(z), static
+
+Time series::
+
+    metrics/K              load coefficient of the wall
+    metrics/thrust_kN      normal thrust per metre of wall
+    metrics/centroid       height of the resultant / H
+    metrics/panel_stress_kPa/<i>   normal stress on panel i
+    metrics/kinetic_energy_J
+
+    case                   TextDocument: case description and resolved config (static)
+
+Timelines: ``step`` (sequence), ``sim_time`` (duration, s) and, for wall-movement runs,
+``wall_disp_over_H`` (sequence in millionths: Delta/H = 0.003 is 3000), because Rerun
+timelines are integers or times.
+"""
+
+WORLD = "world"
+PARTICLES = "world/particles"
+BLOCKS = "world/blocks"
+WALL = "world/wall"
+FORCE_CHAINS = "world/force_chains"
+DISPLACEMENT = "world/displacement"
+PROFILE = "profile"
+PROFILE_DEM = "profile/dem"
+PROFILE_THEORY = "profile/theory"
+METRICS = "metrics"
+METRIC_K = "metrics/K"
+METRIC_THRUST = "metrics/thrust_kN"
+METRIC_CENTROID = "metrics/centroid"
+METRIC_PANEL_STRESS = "metrics/panel_stress_kPa"
+METRIC_KE = "metrics/kinetic_energy_J"
+CASE = "case"
+
+TIMELINE_STEP = "step"
+TIMELINE_TIME = "sim_time"
+TIMELINE_DISP = "wall_disp_over_H"
+DISP_TIMELINE_SCALE = 1e6

@@ -1,0 +1,258 @@
+"""Rerun recordings of wallsim runs. The only module family that imports ``rerun``.
+
+Engines yield frames (plain numpy arrays, duck-typed; dem2d and dem3d use the same
+field names): ``step, time, positions (n,d), radii (n,), velocities (n,d)``, optional
+``body_id (n,)``, ``contact_a/contact_b (m,d)`` and ``contact_force (m,)`` (normal force
+of each particle-particle contact, N), ``panel_corners`` ((p,4,3) in 3D, (p,2,2) in 2D),
+``panel_normal (p,d)`` (unit, from the wall into the backfill), ``panel_force (p,d)``
+(force by the particles on the panel, N; per metre of wall in 2D) and
+``panel_area (p,)`` (m^2 in 3D, m per metre in 2D), optional ``block_outlines``
+(list of (k,2) polygons).
+
+Always an explicit ``RecordingStream`` written to a file (plus a viewer with
+``spawn=True``); never the global stream, never a stream without a sink (it would
+buffer everything in RAM, ../shared/STACK.md 2.1).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import rerun as rr
+import rerun.blueprint as rrb
+
+from . import paths as P
+
+_RGB_WALL_LOW = np.array([60, 90, 200], dtype=float)
+_RGB_WALL_HIGH = np.array([230, 40, 40], dtype=float)
+
+
+def _viridis(values: np.ndarray, vmax: float) -> np.ndarray:
+    """uint8 RGB colours for values in [0, vmax] (a 5-stop viridis approximation)."""
+    stops = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], float)
+    t = np.clip(values / vmax, 0.0, 1.0) if vmax > 0 else np.zeros_like(values)
+    x = t * (len(stops) - 1)
+    i = np.minimum(x.astype(int), len(stops) - 2)
+    f = (x - i)[:, None]
+    return (stops[i] * (1 - f) + stops[i + 1] * f).astype(np.uint8)
+
+
+def panel_normal_stress(frame) -> np.ndarray:
+    """Normal stress on each panel [Pa], compression positive: the particles push the
+    panel along -normal, so sigma = -(F . n) / A."""
+    return -np.einsum("pd,pd->p", frame.panel_force, frame.panel_normal) / frame.panel_area
+
+
+def default_blueprint(dim: int) -> rrb.Blueprint:
+    """Scene on the left; wall-pressure profile and K / centroid histories on the right."""
+    scene = (rrb.Spatial3DView(origin=P.WORLD, name="particles and force chains") if dim == 3
+             else rrb.Spatial2DView(origin=P.WORLD, name="particles and force chains"))
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            scene,
+            rrb.Vertical(
+                rrb.Spatial2DView(origin=P.PROFILE, name="sigma_h/(gamma H) vs -z/H"),
+                rrb.TimeSeriesView(origin=P.METRIC_K, name="K"),
+                rrb.TimeSeriesView(origin=P.METRIC_CENTROID, name="resultant height / H"),
+                rrb.TextDocumentView(origin=P.CASE, name="case"),
+            ),
+            column_shares=[3, 2]),
+        collapse_panels=True)
+
+
+class Recorder:
+    """One recording per run.
+
+    path:        .rrd file to write (None with spawn=True: viewer only)
+    dim:         2 or 3 (the scene's dimension)
+    every:       log the scene every N-th ``log_frame`` call (metrics are kept for all)
+    spawn:       also open the native viewer (never in CI)
+    enabled:     False makes every call a no-op (``--no-rrd``)
+    flush_every: flush the sink every N scene frames so memory stays flat
+    """
+
+    def __init__(self, path: str | Path | None, *, app_id: str = "wallsim", recording_id: str | None = None,
+                 dim: int = 3, every: int = 1, spawn: bool = False, enabled: bool = True,
+                 blueprint: rrb.Blueprint | None = None, flush_every: int = 20,
+                 chain_radius_scale: float | None = None):
+        self.enabled = enabled and (path is not None or spawn)
+        self.dim = dim
+        self.every = max(int(every), 1)
+        self.flush_every = flush_every
+        self.chain_radius_scale = chain_radius_scale
+        self._calls = 0
+        self._logged = 0
+        self._n_radii = -1
+        self._x0: np.ndarray | None = None
+        self._series: dict[str, list] = {}
+        self._series_time: dict[str, list] = {}
+        self.path = Path(path) if path is not None else None
+        if not self.enabled:
+            self.rec = None
+            return
+        self.rec = rr.RecordingStream(app_id, recording_id=recording_id)
+        self.rec.set_log_time_enabled(False)  # smaller files, comparable between runs
+        bp = blueprint or default_blueprint(dim)
+        if spawn:
+            self.rec.spawn(connect=False)
+        sinks = []
+        if self.path is not None:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            sinks.append(rr.FileSink(str(self.path)))
+        if spawn:
+            sinks.append(rr.GrpcSink())
+        self.rec.set_sinks(*sinks, default_blueprint=bp)
+
+    # ------------------------------------------------------------------ static content
+    def log_case(self, text: str) -> None:
+        """Case description and resolved config, as markdown."""
+        if self.rec is None:
+            return
+        self.rec.log(P.CASE, rr.TextDocument(text, media_type=rr.MediaType.MARKDOWN), static=True)
+
+    def log_theory_profiles(self, profiles, gamma: float, H: float) -> None:
+        """Each theory's sigma_h(z) as a static line: x = sigma_h/(gamma H), y = -z/H."""
+        if self.rec is None:
+            return
+        for prof in profiles:
+            pts = np.column_stack([prof.sigma_h / (gamma * H), -prof.z / H]).astype(np.float32)
+            self.rec.log(f"{P.PROFILE_THEORY}/{prof.method}", rr.LineStrips2D([pts], labels=[prof.method]),
+                         static=True)
+
+    # ------------------------------------------------------------------ per frame
+    def _set_time(self, step: int, time: float, disp_over_H: float | None) -> None:
+        self.rec.set_time(P.TIMELINE_STEP, sequence=int(step))
+        self.rec.set_time(P.TIMELINE_TIME, duration=float(time))
+        if disp_over_H is not None:
+            self.rec.set_time(P.TIMELINE_DISP, sequence=int(round(disp_over_H * P.DISP_TIMELINE_SCALE)))
+
+    def log_frame(self, frame, *, wall_disp_over_H: float | None = None, colour_by: str = "displacement",
+                  profile: tuple[np.ndarray, np.ndarray] | None = None,
+                  metrics: dict[str, float] | None = None) -> bool:
+        """Log one engine frame. ``profile`` = (z/H at panel centres, sigma_h/(gamma H));
+        ``metrics`` = scalars (e.g. K, thrust_kN, centroid) kept as time series.
+        Returns True when the scene was logged (every N-th call)."""
+        if self.rec is None:
+            return False
+        self._calls += 1
+        self._remember(frame.step, frame.time, wall_disp_over_H, metrics)
+        if (self._calls - 1) % self.every:
+            return False
+        self._set_time(frame.step, frame.time, wall_disp_over_H)
+        self._log_particles(frame, colour_by)
+        self._log_walls(frame)
+        self._log_chains(frame)
+        if getattr(frame, "block_outlines", None) is not None:
+            self.rec.log(P.BLOCKS, rr.LineStrips2D([np.vstack([b, b[:1]]) for b in frame.block_outlines]))
+        if profile is not None:
+            zh, s = profile
+            pts = np.column_stack([s, -np.asarray(zh)]).astype(np.float32)
+            self.rec.log(P.PROFILE_DEM, rr.LineStrips2D([pts], labels=["DEM"], colors=[[0, 0, 0]]))
+        self._logged += 1
+        if self._logged % self.flush_every == 0:
+            self.rec.flush()
+        return True
+
+    def _log_particles(self, frame, colour_by: str) -> None:
+        pos = np.asarray(frame.positions)
+        n = len(pos)
+        Points = rr.Points3D if self.dim == 3 else rr.Points2D
+        if n != self._n_radii:
+            # radii are temporal (never static) so a changing particle count stays visible
+            self.rec.log(P.PARTICLES, Points.from_fields(radii=np.asarray(frame.radii, np.float32)))
+            self._n_radii = n
+            self._x0 = pos.copy()
+        if colour_by == "velocity":
+            v = np.linalg.norm(frame.velocities, axis=1)
+            colours = _viridis(v, float(np.percentile(v, 99)) if n else 1.0)
+        elif colour_by == "displacement" and self._x0 is not None:
+            u = np.linalg.norm(pos - self._x0, axis=1)
+            colours = _viridis(u, float(np.percentile(u, 99)) if n else 1.0)
+        else:
+            colours = None
+        self.rec.log(P.PARTICLES, Points.from_fields(positions=pos.astype(np.float32), colors=colours))
+
+    def _log_walls(self, frame) -> None:
+        corners = getattr(frame, "panel_corners", None)
+        if corners is None or len(corners) == 0:
+            return
+        sigma = panel_normal_stress(frame)
+        smax = float(np.max(np.abs(sigma))) if len(sigma) else 0.0
+        t = np.clip(sigma / smax, 0, 1)[:, None] if smax > 0 else np.zeros((len(sigma), 1))
+        colours = (_RGB_WALL_LOW * (1 - t) + _RGB_WALL_HIGH * t).astype(np.uint8)
+        if self.dim == 3:
+            strips = [np.vstack([c, c[:1]]).astype(np.float32) for c in corners]
+            self.rec.log(P.WALL, rr.LineStrips3D(strips, colors=colours, radii=[0.01]))
+        else:
+            self.rec.log(P.WALL, rr.LineStrips2D([c.astype(np.float32) for c in corners], colors=colours,
+                                                 radii=[0.002 * _scene_size(frame)]))
+
+    def _log_chains(self, frame) -> None:
+        f = getattr(frame, "contact_force", None)
+        if f is None or len(f) == 0:
+            return
+        strong = f > f.mean()
+        a, b, fs = frame.contact_a[strong], frame.contact_b[strong], f[strong]
+        scale = self.chain_radius_scale or 0.5 * float(np.mean(frame.radii))
+        radii = (scale * fs / fs.max()).astype(np.float32)
+        strips = np.stack([a, b], axis=1).astype(np.float32)
+        Strips = rr.LineStrips3D if self.dim == 3 else rr.LineStrips2D
+        self.rec.log(P.FORCE_CHAINS, Strips(strips, radii=radii, colors=[[200, 30, 30]]))
+
+    def log_displacement(self, x0: np.ndarray, x1: np.ndarray, *, step: int, time: float,
+                         max_arrows: int = 3000, disp_over_H: float | None = None) -> None:
+        """Displacement field x1 - x0 as arrows (evenly subsampled to ``max_arrows``)."""
+        if self.rec is None:
+            return
+        k = max(len(x0) // max_arrows, 1)
+        self._set_time(step, time, disp_over_H)
+        Arrows = rr.Arrows3D if self.dim == 3 else rr.Arrows2D
+        self.rec.log(P.DISPLACEMENT, Arrows(origins=x0[::k].astype(np.float32),
+                                            vectors=(x1 - x0)[::k].astype(np.float32)))
+
+    # ------------------------------------------------------------------ series
+    def _remember(self, step, time, disp, metrics) -> None:
+        if not metrics:
+            return
+        for name, value in metrics.items():
+            self._series.setdefault(name, []).append(value)
+            self._series_time.setdefault(name, []).append((step, time, disp))
+
+    def _send_series(self) -> None:
+        for name, values in self._series.items():
+            times = np.array(self._series_time[name], dtype=object)
+            steps = np.array([t[0] for t in times], dtype=np.int64)
+            secs = np.array([t[1] for t in times], dtype=np.float64)
+            idx = [rr.TimeColumn(P.TIMELINE_STEP, sequence=steps),
+                   rr.TimeColumn(P.TIMELINE_TIME, duration=secs)]
+            if all(t[2] is not None for t in times):
+                idx.append(rr.TimeColumn(P.TIMELINE_DISP, sequence=np.array(
+                    [round(t[2] * P.DISP_TIMELINE_SCALE) for t in times], dtype=np.int64)))
+            vals = np.asarray(values, dtype=np.float64)
+            entity = f"{P.METRICS}/{name}"
+            if vals.ndim == 1:
+                self.rec.send_columns(entity, indexes=idx, columns=rr.Scalars.columns(scalars=vals))
+            else:
+                self.rec.send_columns(entity, indexes=idx, columns=rr.Scalars.columns(
+                    scalars=vals.ravel()).partition(np.full(len(vals), vals.shape[1])))
+
+    def close(self) -> None:
+        """Send the buffered time series, flush and close the file."""
+        if self.rec is None:
+            return
+        self._send_series()
+        self.rec.flush()
+        self.rec.disconnect()
+        self.rec = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def _scene_size(frame) -> float:
+    pos = np.asarray(frame.positions)
+    return float(np.ptp(pos, axis=0).max()) if len(pos) else 1.0

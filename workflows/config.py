@@ -1,0 +1,151 @@
+"""Case configuration: frozen dataclasses, overridden by a TOML file and ``--set key=value``.
+
+A case is a (possibly nested) frozen dataclass. Overrides are applied with
+``dataclasses.replace`` so the result is a new, fully resolved case that is written
+into the run folder. Unknown keys and values of the wrong type raise
+``InvalidParameter`` naming the key and what it accepts.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import tomllib
+import typing
+from pathlib import Path
+
+from analytic.errors import InvalidParameter
+
+
+def _field_types(cls) -> dict[str, object]:
+    hints = typing.get_type_hints(cls)
+    return {f.name: hints[f.name] for f in dataclasses.fields(cls)}
+
+
+def _coerce(key: str, text, typ):
+    """Turn a TOML value or a ``--set`` string into the field's type."""
+    origin = typing.get_origin(typ)
+    if origin is typing.Union or str(origin) == "<class 'types.UnionType'>":
+        args = [a for a in typing.get_args(typ) if a is not type(None)]
+        if isinstance(text, str) and text.lower() in ("none", "null", ""):
+            return None
+        typ = args[0]
+    if typ is bool:
+        if isinstance(text, bool):
+            return text
+        low = str(text).lower()
+        if low in ("1", "true", "yes", "on"):
+            return True
+        if low in ("0", "false", "no", "off"):
+            return False
+        raise InvalidParameter(key, text, "true or false")
+    if typ is int:
+        try:
+            if isinstance(text, float) and not text.is_integer():
+                raise ValueError
+            return int(float(text)) if not isinstance(text, int) else text
+        except (TypeError, ValueError):
+            raise InvalidParameter(key, text, "an integer") from None
+    if typ is float:
+        try:
+            return float(text)
+        except (TypeError, ValueError):
+            raise InvalidParameter(key, text, "a number", "not a number") from None
+    if typ is str:
+        return str(text)
+    if typing.get_origin(typ) is typing.Literal:
+        allowed = typing.get_args(typ)
+        if text not in allowed:
+            raise InvalidParameter(key, text, " | ".join(map(str, allowed)))
+        return text
+    if typing.get_origin(typ) in (tuple, list):
+        if isinstance(text, str):
+            parts = [p for p in text.replace("(", "").replace(")", "").split(",") if p.strip()]
+        else:
+            parts = list(text)
+        inner = typing.get_args(typ)[0] if typing.get_args(typ) else float
+        return tuple(_coerce(key, p, inner) for p in parts)
+    return text
+
+
+def flat_keys(case, prefix: str = "") -> list[str]:
+    """All settable keys of a (nested) case, dotted for nested dataclasses."""
+    keys = []
+    for f in dataclasses.fields(case):
+        v = getattr(case, f.name)
+        if dataclasses.is_dataclass(v):
+            keys += flat_keys(v, prefix + f.name + ".")
+        else:
+            keys.append(prefix + f.name)
+    return keys
+
+
+def _resolve(case, dotted: str):
+    """Find the (sub)case and field for a key; bare names also match nested fields."""
+    parts = dotted.split(".")
+    node = case
+    for p in parts[:-1]:
+        if not hasattr(node, p) or not dataclasses.is_dataclass(getattr(node, p)):
+            return None
+        node = getattr(node, p)
+    name = parts[-1]
+    if any(f.name == name for f in dataclasses.fields(node)) and not dataclasses.is_dataclass(getattr(node, name)):
+        return parts[:-1], name
+    if len(parts) == 1:  # unique bare name inside a nested record
+        hits = [k for k in flat_keys(case) if k.split(".")[-1] == name]
+        if len(hits) == 1:
+            return hits[0].split(".")[:-1], name
+    return None
+
+
+def set_value(case, key: str, raw):
+    """Return a copy of ``case`` with ``key`` set to ``raw`` (coerced to the field type)."""
+    hit = _resolve(case, key)
+    if hit is None:
+        raise InvalidParameter(key, raw, "a key of this case: " + ", ".join(flat_keys(case)),
+                               "unknown key")
+    path, name = hit
+
+    def rebuild(node, remaining):
+        if not remaining:
+            typ = _field_types(type(node))[name]
+            try:
+                return dataclasses.replace(node, **{name: _coerce(key, raw, typ)})
+            except InvalidParameter as err:
+                if err.name != key and err.name == name:
+                    raise InvalidParameter(key, err.value, err.valid, err.why) from None
+                raise
+        head = remaining[0]
+        return dataclasses.replace(node, **{head: rebuild(getattr(node, head), remaining[1:])})
+
+    return rebuild(case, path)
+
+
+def apply_sets(case, sets: list[str] | None):
+    """Apply ``--set key=value`` strings in order."""
+    for item in sets or []:
+        if "=" not in item:
+            raise InvalidParameter("--set", item, "key=value")
+        key, raw = item.split("=", 1)
+        case = set_value(case, key.strip(), raw.strip())
+    return case
+
+
+def apply_toml(case, path: str | Path):
+    """Apply every key of a TOML file (tables map to nested records)."""
+    try:
+        data = tomllib.loads(Path(path).read_text())
+    except FileNotFoundError:
+        raise InvalidParameter("--config", str(path), "an existing TOML file") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InvalidParameter("--config", str(path), "valid TOML", str(err).splitlines()[0]) from None
+
+    def walk(d, prefix=""):
+        for k, v in d.items():
+            if isinstance(v, dict):
+                yield from walk(v, prefix + k + ".")
+            else:
+                yield prefix + k, v
+
+    for key, value in walk(data):
+        case = set_value(case, key, value)
+    return case

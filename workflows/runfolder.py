@@ -1,0 +1,143 @@
+"""Run folders: where every DEM run leaves its resolved config, provenance, data and plots.
+
+Layout (one folder per run)::
+
+    runs/<case>/<YYYYmmdd-HHMMSS>-seed<seed>/
+        config.toml      the fully resolved case (after --config and --set)
+        manifest.json    what produced the result: versions, seed, host, wall time, ...
+        result.json      the headline numbers (what --json prints)
+        *.csv            tidy tables, units in every header
+        *.png            figures
+        recording.rrd    Rerun recording
+        checkpoints/     state to resume an interrupted run
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import math
+import os
+import platform
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import tomli_w
+
+
+def package_versions() -> dict[str, str]:
+    """Versions of wallsim and the packages that shape its numbers."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": platform.python_version()}
+    for pkg in ("wallsim", "numpy", "scipy", "numba", "pymunk", "rerun-sdk"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out
+
+
+def git_revision(repo: Path | None = None) -> str:
+    """Commit hash of the checkout (with '+dirty' when it has changes), or 'unknown'."""
+    repo = repo or Path(__file__).resolve().parents[1]
+    try:
+        rev = subprocess.run(["git", "-C", str(repo), "rev-parse", "--short", "HEAD"],
+                             capture_output=True, text=True, timeout=5).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(repo), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=5).stdout.strip()
+        return (rev + ("+dirty" if dirty else "")) if rev else "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def to_plain(obj):
+    """Dataclasses, numpy scalars/arrays and paths -> JSON/TOML-friendly Python values."""
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+    if isinstance(obj, dict):
+        return {str(k): to_plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_plain(obj.tolist())
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _toml_ready(obj):
+    """TOML has no null: drop None values (they mean 'default')."""
+    if isinstance(obj, dict):
+        return {k: _toml_ready(v) for k, v in obj.items() if v is not None}
+    if isinstance(obj, list):
+        return [_toml_ready(v) for v in obj]
+    return obj
+
+
+class RunFolder:
+    """A run's output folder. Created on construction; every writer returns the path."""
+
+    def __init__(self, case: str, seed: int, root: str | Path = "runs", name: str | None = None):
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        self.path = Path(root) / case / (name or f"{stamp}-seed{seed}")
+        self.path.mkdir(parents=True, exist_ok=True)
+        self.case = case
+        self.seed = seed
+        self._t0 = time.perf_counter()
+
+    def file(self, name: str) -> Path:
+        p = self.path / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        return p
+
+    def write_config(self, config) -> Path:
+        p = self.file("config.toml")
+        p.write_text(tomli_w.dumps(_toml_ready(to_plain(config))))
+        return p
+
+    def write_manifest(self, **extra) -> Path:
+        """Provenance: package versions, git revision, host, seed, wall time so far."""
+        man = {
+            "case": self.case,
+            "seed": self.seed,
+            "versions": package_versions(),
+            "git": git_revision(),
+            "host": socket.gethostname(),
+            "platform": platform.platform(),
+            "cpu_count": os.cpu_count(),
+            "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
+            "command": " ".join(sys.argv),
+            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+            "wall_time_s": time.perf_counter() - self._t0,
+            **to_plain(extra),
+        }
+        return self.write_json("manifest.json", man)
+
+    def write_json(self, name: str, obj) -> Path:
+        p = self.file(name)
+        p.write_text(json.dumps(to_plain(obj), indent=2) + "\n")
+        return p
+
+    def write_csv(self, name: str, header: list[str], rows) -> Path:
+        """Tidy CSV; put units in the header names (e.g. ``sigma_h_kPa``)."""
+        p = self.file(name)
+        with p.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            for row in rows:
+                w.writerow([f"{v:.9g}" if isinstance(v, (float, np.floating)) else v for v in row])
+        return p
+
+    @property
+    def wall_time(self) -> float:
+        return time.perf_counter() - self._t0
