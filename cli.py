@@ -84,6 +84,65 @@ def _cmd_theory(args) -> int:
     return 0
 
 
+def _add_dsm(sub):
+    p = sub.add_parser("dsm", help="differential slice method (Nadukuru & Michalowski 2012)",
+                       description="Wall load distribution by the differential slice method, against "
+                                   "the paper's Table 3 and Fang & Ishibashi's tests.")
+    p.add_argument("--mode", choices=["T", "RB", "RT"], default="T",
+                   help="T translation, RB rotation about the base, RT rotation about the top (T)")
+    p.add_argument("--phi", type=_number("phi", 0, 90, unit="deg"), default=None,
+                   help="friction angle [deg] (the mode's own: T 34, RB 33.4, RT 40.4)")
+    p.add_argument("--delta", type=_number("delta", -90, 90, unit="deg"), default=24.7, help="wall friction [deg] (24.7)")
+    p.add_argument("--H", type=_number("H", 0, None, unit="m"), default=3.1, help="wall height [m] (3.1)")
+    p.add_argument("--gamma", type=_number("gamma", 0, None, unit="kN/m^3"), default=16.7,
+                   help="unit weight [kN/m^3] (16.7)")
+    p.add_argument("--theta-r", default=None, metavar="DEG|max|local",
+                   help="slip surface: planar at DEG from vertical, 'max' (plane of maximum DSM load), "
+                        "'local' (curved, 45 - phi*/2); default: the mode's own")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the three modes like Fig. 8")
+    p.set_defaults(func=_cmd_dsm)
+
+
+def _cmd_dsm(args) -> int:
+    from analytic.slices import MODES, mode_case, solve
+    from workflows.report import dsm_json, dsm_text
+
+    from analytic.inputs import require_number
+
+    theta = args.theta_r
+    if theta not in (None, "max", "local"):
+        if not _is_float(theta):
+            raise InvalidParameter("theta-r", theta, "(0, 90) deg, 'max' or 'local'")
+        theta = require_number("theta-r", theta, 0, 90, unit="deg")
+    case = mode_case(args.mode, phi_deg=args.phi, delta_deg=args.delta, H=args.H, gamma=args.gamma * 1e3,
+                     theta_r_deg=theta)
+    result = solve(case)
+    preset = MODES[args.mode]
+    if args.json:
+        out = dsm_json(args.mode, result, preset)
+        out["phi_deg"] = case.phi_deg
+        print(json.dumps(out, indent=2))
+    else:
+        _console().print(dsm_text(args.mode, result, preset, case))
+    if args.plot:
+        from viz.figures import plot_dsm_modes
+        results = {m: (result if m == args.mode else solve(mode_case(m, delta_deg=args.delta, H=args.H,
+                                                                        gamma=args.gamma * 1e3)))
+                   for m in MODES}
+        plot_dsm_modes(results, MODES, args.plot)
+        print(f"wrote {args.plot}", file=sys.stderr)
+    return 0
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
 def _console():
     from rich.console import Console
     return Console()
@@ -94,6 +153,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"wallsim {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_theory(sub)
+    _add_dsm(sub)
     return parser
 
 

@@ -49,3 +49,33 @@ def plot_theory_profiles(rows, wall, path, *, dem=None, title: str | None = None
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return _finish(fig, path)
+
+
+def plot_dsm_modes(results: dict, presets: dict, path) -> Path:
+    """Nadukuru & Michalowski Fig. 8: (a) k_l(d), (b) phi*(d)/phi, (c) wall stress
+    sigma_n / (gamma H) against d/H for each mode; the paper's Table 3 centroids marked."""
+    fig, axes = plt.subplots(1, 3, figsize=(12, 5), sharey=True)
+    u = np.linspace(0, 1, 201)
+    for (code, res), c in zip(results.items(), ("C0", "C1", "C2")):
+        pre = presets[code]
+        p = res.profile
+        axes[0].plot([pre.k_wall(x) for x in u], u, color=c, label=pre.title)
+        axes[1].plot([pre.phi_factor(x) for x in u], u, color=c, label=pre.title)
+        gH = 2 * p.thrust_h / (p.Kh * p.H) if p.Kh else 1.0   # gamma H
+        axes[2].plot(p.sigma_h / gH, p.z / p.H, color=c,
+                     label=f"{pre.title}: K {p.K:.3f}, h/H {p.height_over_H:.3f} "
+                           f"(paper {pre.paper_K:.3f}, {pre.paper_height:.3f})")
+        axes[2].axhline(1 - p.height_over_H, color=c, lw=0.6, ls=":")
+    axes[0].set_xlabel("k_l = sigma_n / sigma_z at the wall")
+    axes[1].set_xlabel("mobilised phi* / phi")
+    axes[2].set_xlabel("sigma_n / (gamma H)")
+    axes[0].set_ylabel("d / H (depth)")
+    for ax, t in zip(axes, ("(a)", "(b)", "(c)")):
+        ax.set_ylim(1, 0)
+        ax.grid(alpha=0.3)
+        ax.set_title(t)
+    axes[2].set_xlim(0, 0.5)
+    axes[2].legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Differential slice method (Nadukuru & Michalowski 2012, Fig. 8); dotted: resultant depth")
+    return _finish(fig, path)
