@@ -323,7 +323,10 @@ class Simulation:
         identity = np.arange(n, dtype=np.int64)
         kernels.carry_pair_history(new.start, new.nbr, new.ut, new.active, old.start, old.nbr, old.ut,
                                    old.active, identity)
-        kernels.transpose_pairs(new.start, new.nbr, n, new.tstart, new.tpair)
+        kernels.transpose_pairs(new.start, new.nbr, n, new.tstart, new.tpair, new.tpos)
+        # pass 2 sums every transposed row: rows of open pairs must be zero; rows of
+        # carried contacts are rewritten by the next pass 1 before pass 2 reads them
+        new.pf[:total] = 0.0
         self._pair_bufs[1 - self._cur] = new
         self._cur = 1 - self._cur
 
@@ -504,7 +507,8 @@ def _build_bodies(pos, radii, labels, vel, density) -> tuple[Spheres, Clumps]:
 def _empty_pairs(n: int, cap: int) -> Pairs:
     return Pairs(start=np.zeros(n + 1, np.int64), nbr=np.zeros(cap, np.int64),
                  tstart=np.zeros(n + 1, np.int64), tpair=np.zeros(cap, np.int64),
-                 ut=np.zeros((cap, 3)), active=np.zeros(cap, np.uint8), pf=np.zeros((cap, 8)))
+                 tpos=np.zeros(cap, np.int64), ut=np.zeros((cap, 3)), active=np.zeros(cap, np.uint8),
+                 pf=np.zeros((cap, 8)))
 
 
 def _empty_wall_pairs(n: int, cap: int) -> WallPairs:

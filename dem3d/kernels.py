@@ -47,16 +47,20 @@ SQRT_5_6 = math.sqrt(5.0 / 6.0)
 # contact law (the same for particle-particle and particle-panel contacts)
 # --------------------------------------------------------------------------------------
 
-@njit(cache=True, fastmath=FASTMATH)
-def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ut, k, dt):
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy, uz, dt):
     """Force on body A of a contact between A and B.
 
     delta:        overlap [m] (> 0)
     n:            unit normal from A towards B
     vr:           velocity of A's contact point relative to B's [m/s]
     m_eff, r_eff: effective mass [kg] and radius [m] (for a wall: the sphere's)
-    ut:           (cap, 3) tangential displacement history, row k updated in place
-    Returns (Fx, Fy, Fz, Fn): force on A [N] and the normal force Fn [N] (compression +).
+    u:            tangential spring displacement of A relative to B from the last step [m]
+    Returns (Fx, Fy, Fz, Fn, ux, uy, uz): force on A [N], the normal force Fn [N]
+    (compression +) and the updated tangential displacement.
+    Scalars only in and out, and inlined at numba IR level: a plain call cost ~20 % of
+    the pair pass here, and passing arrays to a non-inlined function costs
+    reference-count updates per call.
 
     Normal: Fn = Fe + c_n v_n with v_n = vr.n (closing > 0), Fe = kn delta (linear) or
     4/3 E* sqrt(R*) delta^1.5 (Hertz). The viscous part is not clipped (PFC dashpot mode 0,
@@ -93,18 +97,20 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ut, k, 
             ct = prm.damp_s
     fn = fe + cn * vn
 
-    ux = ut[k, 0]
-    uy = ut[k, 1]
-    uz = ut[k, 2]
     un = ux * nx + uy * ny + uz * nz
     if un != 0.0:
-        u2 = ux * ux + uy * uy + uz * uz
         ux -= un * nx
         uy -= un * ny
         uz -= un * nz
         p2 = ux * ux + uy * uy + uz * uz
         if p2 > 0.0:
-            s = math.sqrt(u2 / p2)
+            # restore the magnitude: |u|^2 = p2 + un^2, scale = sqrt(1 + e) with e = un^2/p2;
+            # e is ~(rotation per step)^2 ~ 1e-10, where 1 + e/2 - e^2/8 is exact to 1e-16
+            e = un * un / p2
+            if e < 1e-4:
+                s = 1.0 + e * (0.5 - 0.125 * e)
+            else:
+                s = math.sqrt(1.0 + e)
             ux *= s
             uy *= s
             uz *= s
@@ -125,10 +131,7 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ut, k, 
             ux = -(ftx + ct * vtx) / kt
             uy = -(fty + ct * vty) / kt
             uz = -(ftz + ct * vtz) / kt
-    ut[k, 0] = ux
-    ut[k, 1] = uy
-    ut[k, 2] = uz
-    return -fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz, fn
+    return -fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz, fn, ux, uy, uz
 
 
 @njit(cache=True, fastmath=FASTMATH)
@@ -149,7 +152,7 @@ def _min_image(d, length):
     return d
 
 
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def separation(x, i, j, pax, plen):
     """x[j] - x[i] with the minimum image along the periodic axis ``pax`` (-1: none)."""
     dx = x[j, 0] - x[i, 0]
@@ -164,7 +167,7 @@ def separation(x, i, j, pax, plen):
     return dx, dy, dz
 
 
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def panel_closest_point(px, py, pz, pan, p):
     """Closest point of panel p to the point (px, py, pz), or ok = False when the point is
     behind the panel (on the side opposite its normal) or beyond a shared edge.
@@ -210,35 +213,63 @@ def panel_closest_point(px, py, pz, pan, p):
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
 def pair_forces(sph, prs, prm, dt, pax, plen):
-    """Evaluate every half-list pair once (see module docstring, pass 1)."""
+    """Pass 1 (module docstring): evaluate every half-list pair once. The force and torque
+    on the lower index i are summed into sph.f / sph.t; those on the higher index j are
+    written to the pair's slot in the transposed order (``prs.pf``), which pass 2 adds."""
     x = sph.x
     v = sph.v
     w = sph.w
     r = sph.r
     inv_m = sph.inv_m
+    f = sph.f
+    t = sph.t
     nbr = prs.nbr
+    tpos = prs.tpos
     ut = prs.ut
     active = prs.active
     pf = prs.pf
     mu = prm.mu
+    need_m = prm.damping == RATIO
+    need_r = prm.law == HERTZ_MINDLIN
     for i in prange(x.shape[0]):
         ri = r[i]
+        xi = x[i, 0]
+        yi = x[i, 1]
+        zi = x[i, 2]
+        sfx = 0.0
+        sfy = 0.0
+        sfz = 0.0
+        stx = 0.0
+        sty = 0.0
+        stz = 0.0
         for k in range(prs.start[i], prs.start[i + 1]):
             j = nbr[k]
-            dx, dy, dz = separation(x, i, j, pax, plen)
+            dx = x[j, 0] - xi
+            dy = x[j, 1] - yi
+            dz = x[j, 2] - zi
+            if pax == 0:
+                dx = _min_image(dx, plen)
+            elif pax == 1:
+                dy = _min_image(dy, plen)
+            elif pax == 2:
+                dz = _min_image(dz, plen)
             rs = ri + r[j]
             d2 = dx * dx + dy * dy + dz * dz
             if d2 >= rs * rs:
-                if active[k]:
+                if active[k]:           # contact just opened: forget history and force
                     active[k] = 0
                     ut[k, 0] = 0.0
                     ut[k, 1] = 0.0
                     ut[k, 2] = 0.0
+                    kt_ = tpos[k]
+                    for c in range(8):
+                        pf[kt_, c] = 0.0
                 continue
             d = math.sqrt(d2)
-            nx = dx / d
-            ny = dy / d
-            nz = dz / d
+            inv_d = 1.0 / d
+            nx = dx * inv_d
+            ny = dy * inv_d
+            nz = dz * inv_d
             delta = rs - d
             h = 0.5 * delta
             ai = ri - h          # lever arms to the centre of the overlap region
@@ -250,26 +281,48 @@ def pair_forces(sph, prs, prm, dt, pax, plen):
             vrx = v[i, 0] - v[j, 0] + (wy * nz - wz * ny)
             vry = v[i, 1] - v[j, 1] + (wz * nx - wx * nz)
             vrz = v[i, 2] - v[j, 2] + (wx * ny - wy * nx)
-            s = inv_m[i] + inv_m[j]
-            m_eff = 1.0 / s if s > 0.0 else 0.0
-            r_eff = ri * r[j] / rs
-            fx, fy, fz, fn = contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz,
-                                         m_eff, r_eff, ut, k, dt)
-            pf[k, 0] = fx
-            pf[k, 1] = fy
-            pf[k, 2] = fz
-            pf[k, 3] = ny * fz - nz * fy
-            pf[k, 4] = nz * fx - nx * fz
-            pf[k, 5] = nx * fy - ny * fx
-            pf[k, 6] = h
-            pf[k, 7] = fn
+            m_eff = 0.0
+            if need_m:
+                s = inv_m[i] + inv_m[j]
+                m_eff = 1.0 / s if s > 0.0 else 0.0
+            r_eff = ri * r[j] / rs if need_r else 0.0
+            fx, fy, fz, fn, ux, uy, uz = contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz,
+                                                     m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
+            ut[k, 0] = ux
+            ut[k, 1] = uy
+            ut[k, 2] = uz
             active[k] = 1
+            # torque on i: (a_i n) x F; on j: (-a_j n) x (-F) = a_j (n x F)
+            cx = ny * fz - nz * fy
+            cy = nz * fx - nx * fz
+            cz = nx * fy - ny * fx
+            sfx += fx
+            sfy += fy
+            sfz += fz
+            stx += ai * cx
+            sty += ai * cy
+            stz += ai * cz
+            kt_ = tpos[k]
+            pf[kt_, 0] = -fx
+            pf[kt_, 1] = -fy
+            pf[kt_, 2] = -fz
+            pf[kt_, 3] = aj * cx
+            pf[kt_, 4] = aj * cy
+            pf[kt_, 5] = aj * cz
+            pf[kt_, 6] = fn
+        f[i, 0] = sfx
+        f[i, 1] = sfy
+        f[i, 2] = sfz
+        t[i, 0] = stx
+        t[i, 1] = sty
+        t[i, 2] = stz
 
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
 def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_limit2, integrate):
-    """Pass 2 (see module docstring): total contact force and torque per sphere, wall
-    contacts, and the leapfrog update of free spheres (if ``integrate``).
+    """Pass 2 (see module docstring): total contact force and torque per sphere (starting
+    from pass 1's partial sums in sph.f / sph.t), wall contacts, and the leapfrog update of
+    free spheres (if ``integrate``). Must follow ``pair_forces``.
 
     Returns (n_moved, n_bad, n_fast): spheres farther than sqrt(ref_limit2) from their
     position at the last list build, spheres with a non-finite state, spheres faster than
@@ -282,39 +335,33 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
     f = sph.f
     t = sph.t
     pf = prs.pf
-    active = prs.active
+    # numba 0.68 dropped writes made as ``record.field[k] = ...`` inside a prange body
+    # (observed here); every written array is bound to a local name first
+    w_act = wps.active
+    w_ut = wps.ut
+    w_out = wps.out
+    inv_m = sph.inv_m
     alpha = prm.local_damping
+    need_m = prm.damping == RATIO
     n_moved = 0
     n_bad = 0
     n_fast = 0
     for i in prange(x.shape[0]):
         ri = r[i]
-        fx = 0.0
-        fy = 0.0
-        fz = 0.0
-        tx = 0.0
-        ty = 0.0
-        tz = 0.0
-        for k in range(prs.start[i], prs.start[i + 1]):
-            if active[k]:
-                a = ri - pf[k, 6]
-                fx += pf[k, 0]
-                fy += pf[k, 1]
-                fz += pf[k, 2]
-                tx += a * pf[k, 3]
-                ty += a * pf[k, 4]
-                tz += a * pf[k, 5]
+        fx = f[i, 0]     # pairs where i is the lower index, summed by pass 1
+        fy = f[i, 1]
+        fz = f[i, 2]
+        tx = t[i, 0]
+        ty = t[i, 1]
+        tz = t[i, 2]
         for kk in range(prs.tstart[i], prs.tstart[i + 1]):
-            k = prs.tpair[kk]
-            if active[k]:
-                # force on the higher index is -F; its torque (-a n) x (-F) = a (n x F)
-                a = ri - pf[k, 6]
-                fx -= pf[k, 0]
-                fy -= pf[k, 1]
-                fz -= pf[k, 2]
-                tx += a * pf[k, 3]
-                ty += a * pf[k, 4]
-                tz += a * pf[k, 5]
+            # pairs where i is the higher index: sequential, zero rows for open pairs
+            fx += pf[kk, 0]
+            fy += pf[kk, 1]
+            fz += pf[kk, 2]
+            tx += pf[kk, 3]
+            ty += pf[kk, 4]
+            tz += pf[kk, 5]
         # wall panels: the same law, wall mass and radius infinite
         for k in range(wps.start[i], wps.start[i + 1]):
             p = wps.panel[k]
@@ -329,13 +376,13 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
                 dz = qz - x[i, 2]
                 d2 = dx * dx + dy * dy + dz * dz
             if (not ok) or d2 >= ri * ri or d2 == 0.0:
-                if wps.active[k]:
-                    wps.active[k] = 0
-                    wps.ut[k, 0] = 0.0
-                    wps.ut[k, 1] = 0.0
-                    wps.ut[k, 2] = 0.0
+                if w_act[k]:
+                    w_act[k] = 0
+                    w_ut[k, 0] = 0.0
+                    w_ut[k, 1] = 0.0
+                    w_ut[k, 2] = 0.0
                     for c in range(6):
-                        wps.out[k, c] = 0.0
+                        w_out[k, c] = 0.0
                 continue
             d = math.sqrt(d2)
             nx = dx / d            # from the sphere towards the panel
@@ -355,23 +402,27 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
             vrx = v[i, 0] + a * (w[i, 1] * nz - w[i, 2] * ny) - pvx
             vry = v[i, 1] + a * (w[i, 2] * nx - w[i, 0] * nz) - pvy
             vrz = v[i, 2] + a * (w[i, 0] * ny - w[i, 1] * nx) - pvz
-            im = sph.inv_m[i]
-            m_eff = 1.0 / im if im > 0.0 else 0.0
-            cfx, cfy, cfz, fn = contact_law(prm, pan.mu[p], delta, nx, ny, nz, vrx, vry, vrz,
-                                            m_eff, ri, wps.ut, k, dt)
+            im = inv_m[i]
+            m_eff = 1.0 / im if (im > 0.0 and need_m) else 0.0
+            cfx, cfy, cfz, fn, ux, uy, uz = contact_law(prm, pan.mu[p], delta, nx, ny, nz, vrx, vry, vrz,
+                                                        m_eff, ri, w_ut[k, 0], w_ut[k, 1],
+                                                        w_ut[k, 2], dt)
+            w_ut[k, 0] = ux
+            w_ut[k, 1] = uy
+            w_ut[k, 2] = uz
             fx += cfx
             fy += cfy
             fz += cfz
             tx += a * (ny * cfz - nz * cfy)
             ty += a * (nz * cfx - nx * cfz)
             tz += a * (nx * cfy - ny * cfx)
-            wps.out[k, 0] = cfx
-            wps.out[k, 1] = cfy
-            wps.out[k, 2] = cfz
-            wps.out[k, 3] = cx
-            wps.out[k, 4] = cy
-            wps.out[k, 5] = cz
-            wps.active[k] = 1
+            w_out[k, 0] = cfx
+            w_out[k, 1] = cfy
+            w_out[k, 2] = cfz
+            w_out[k, 3] = cx
+            w_out[k, 4] = cy
+            w_out[k, 5] = cz
+            w_act[k] = 1
         f[i, 0] = fx
         f[i, 1] = fy
         f[i, 2] = fz
@@ -380,7 +431,7 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
         t[i, 2] = tz
         if (not integrate) or sph.clump[i] >= 0:
             continue
-        im = sph.inv_m[i]
+        im = inv_m[i]
         if im > 0.0:
             ax = fx * im + gx
             ay = fy * im + gy
@@ -423,7 +474,7 @@ def _sign(a):
     return 0.0
 
 
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def _check(sph, i, ref_limit2, speed_limit2):
     x = sph.x
     v = sph.v
@@ -452,10 +503,10 @@ def quat_rotate(q0, q1, q2, q3, vx, vy, vz):
 
 
 @njit(cache=True, fastmath=FASTMATH)
-def _world_omega(q0, q1, q2, q3, inv_i, lx, ly, lz):
-    """omega = R I^-1 R^T L for principal inverse moments inv_i (3,)."""
+def _world_omega(q0, q1, q2, q3, i0, i1, i2, lx, ly, lz):
+    """omega = R I^-1 R^T L for principal inverse moments (i0, i1, i2)."""
     bx, by, bz = quat_rotate(q0, -q1, -q2, -q3, lx, ly, lz)
-    return quat_rotate(q0, q1, q2, q3, bx * inv_i[0], by * inv_i[1], bz * inv_i[2])
+    return quat_rotate(q0, q1, q2, q3, bx * i0, by * i1, bz * i2)
 
 
 @njit(cache=True, fastmath=FASTMATH)
@@ -488,6 +539,17 @@ def move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2):
     Members are then placed rigidly: x_m = X + R b_m, v_m = V + omega x (x_m - X).
     """
     alpha = prm.local_damping
+    # bind every written array to a local name (see gather_and_move)
+    cx_ = clu.x
+    cv_ = clu.v
+    cam = clu.am
+    cw_ = clu.w
+    cq_ = clu.q
+    sx = sph.x
+    sv = sph.v
+    sw = sph.w
+    sf = sph.f
+    st = sph.t
     n_moved = 0
     n_bad = 0
     n_fast = 0
@@ -501,71 +563,73 @@ def move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2):
         ty = 0.0
         tz = 0.0
         for m in range(s0, s1):
-            rx = sph.x[m, 0] - clu.x[c, 0]
-            ry = sph.x[m, 1] - clu.x[c, 1]
-            rz = sph.x[m, 2] - clu.x[c, 2]
-            fx += sph.f[m, 0]
-            fy += sph.f[m, 1]
-            fz += sph.f[m, 2]
-            tx += sph.t[m, 0] + (ry * sph.f[m, 2] - rz * sph.f[m, 1])
-            ty += sph.t[m, 1] + (rz * sph.f[m, 0] - rx * sph.f[m, 2])
-            tz += sph.t[m, 2] + (rx * sph.f[m, 1] - ry * sph.f[m, 0])
+            rx = sx[m, 0] - cx_[c, 0]
+            ry = sx[m, 1] - cx_[c, 1]
+            rz = sx[m, 2] - cx_[c, 2]
+            fx += sf[m, 0]
+            fy += sf[m, 1]
+            fz += sf[m, 2]
+            tx += st[m, 0] + (ry * sf[m, 2] - rz * sf[m, 1])
+            ty += st[m, 1] + (rz * sf[m, 0] - rx * sf[m, 2])
+            tz += st[m, 2] + (rx * sf[m, 1] - ry * sf[m, 0])
         im = clu.inv_m[c]
         if im > 0.0:
             ax = fx * im + gx
             ay = fy * im + gy
             az = fz * im + gz
             if alpha > 0.0:
-                ax -= alpha * abs(ax) * _sign(clu.v[c, 0])
-                ay -= alpha * abs(ay) * _sign(clu.v[c, 1])
-                az -= alpha * abs(az) * _sign(clu.v[c, 2])
-            clu.v[c, 0] += dt * ax
-            clu.v[c, 1] += dt * ay
-            clu.v[c, 2] += dt * az
-            clu.x[c, 0] += dt * clu.v[c, 0]
-            clu.x[c, 1] += dt * clu.v[c, 1]
-            clu.x[c, 2] += dt * clu.v[c, 2]
-        q0 = clu.q[c, 0]
-        q1 = clu.q[c, 1]
-        q2 = clu.q[c, 2]
-        q3 = clu.q[c, 3]
-        ii = clu.inv_i[c]
-        if ii[0] > 0.0 or ii[1] > 0.0 or ii[2] > 0.0:
+                ax -= alpha * abs(ax) * _sign(cv_[c, 0])
+                ay -= alpha * abs(ay) * _sign(cv_[c, 1])
+                az -= alpha * abs(az) * _sign(cv_[c, 2])
+            cv_[c, 0] += dt * ax
+            cv_[c, 1] += dt * ay
+            cv_[c, 2] += dt * az
+            cx_[c, 0] += dt * cv_[c, 0]
+            cx_[c, 1] += dt * cv_[c, 1]
+            cx_[c, 2] += dt * cv_[c, 2]
+        q0 = cq_[c, 0]
+        q1 = cq_[c, 1]
+        q2 = cq_[c, 2]
+        q3 = cq_[c, 3]
+        i0 = clu.inv_i[c, 0]
+        i1 = clu.inv_i[c, 1]
+        i2 = clu.inv_i[c, 2]
+        if i0 > 0.0 or i1 > 0.0 or i2 > 0.0:
             if alpha > 0.0:
-                tx -= alpha * abs(tx) * _sign(clu.w[c, 0])
-                ty -= alpha * abs(ty) * _sign(clu.w[c, 1])
-                tz -= alpha * abs(tz) * _sign(clu.w[c, 2])
-            lx = clu.am[c, 0] + 0.5 * dt * tx
-            ly = clu.am[c, 1] + 0.5 * dt * ty
-            lz = clu.am[c, 2] + 0.5 * dt * tz
-            wx, wy, wz = _world_omega(q0, q1, q2, q3, ii, lx, ly, lz)
+                tx -= alpha * abs(tx) * _sign(cw_[c, 0])
+                ty -= alpha * abs(ty) * _sign(cw_[c, 1])
+                tz -= alpha * abs(tz) * _sign(cw_[c, 2])
+            lx = cam[c, 0] + 0.5 * dt * tx
+            ly = cam[c, 1] + 0.5 * dt * ty
+            lz = cam[c, 2] + 0.5 * dt * tz
+            wx, wy, wz = _world_omega(q0, q1, q2, q3, i0, i1, i2, lx, ly, lz)
             h0, h1, h2, h3 = _quat_advance(q0, q1, q2, q3, wx, wy, wz, 0.5 * dt)
-            clu.am[c, 0] += dt * tx
-            clu.am[c, 1] += dt * ty
-            clu.am[c, 2] += dt * tz
-            wx, wy, wz = _world_omega(h0, h1, h2, h3, ii, clu.am[c, 0], clu.am[c, 1], clu.am[c, 2])
+            cam[c, 0] += dt * tx
+            cam[c, 1] += dt * ty
+            cam[c, 2] += dt * tz
+            wx, wy, wz = _world_omega(h0, h1, h2, h3, i0, i1, i2, cam[c, 0], cam[c, 1], cam[c, 2])
             q0, q1, q2, q3 = _quat_advance(q0, q1, q2, q3, wx, wy, wz, dt)
-            clu.q[c, 0] = q0
-            clu.q[c, 1] = q1
-            clu.q[c, 2] = q2
-            clu.q[c, 3] = q3
-            clu.w[c, 0] = wx
-            clu.w[c, 1] = wy
-            clu.w[c, 2] = wz
-        wx = clu.w[c, 0]
-        wy = clu.w[c, 1]
-        wz = clu.w[c, 2]
+            cq_[c, 0] = q0
+            cq_[c, 1] = q1
+            cq_[c, 2] = q2
+            cq_[c, 3] = q3
+            cw_[c, 0] = wx
+            cw_[c, 1] = wy
+            cw_[c, 2] = wz
+        wx = cw_[c, 0]
+        wy = cw_[c, 1]
+        wz = cw_[c, 2]
         for m in range(s0, s1):
             bx, by, bz = quat_rotate(q0, q1, q2, q3, clu.offset[m, 0], clu.offset[m, 1], clu.offset[m, 2])
-            sph.x[m, 0] = clu.x[c, 0] + bx
-            sph.x[m, 1] = clu.x[c, 1] + by
-            sph.x[m, 2] = clu.x[c, 2] + bz
-            sph.v[m, 0] = clu.v[c, 0] + (wy * bz - wz * by)
-            sph.v[m, 1] = clu.v[c, 1] + (wz * bx - wx * bz)
-            sph.v[m, 2] = clu.v[c, 2] + (wx * by - wy * bx)
-            sph.w[m, 0] = wx
-            sph.w[m, 1] = wy
-            sph.w[m, 2] = wz
+            sx[m, 0] = cx_[c, 0] + bx
+            sx[m, 1] = cx_[c, 1] + by
+            sx[m, 2] = cx_[c, 2] + bz
+            sv[m, 0] = cv_[c, 0] + (wy * bz - wz * by)
+            sv[m, 1] = cv_[c, 1] + (wz * bx - wx * bz)
+            sv[m, 2] = cv_[c, 2] + (wx * by - wy * bx)
+            sw[m, 0] = wx
+            sw[m, 1] = wy
+            sw[m, 2] = wz
             a, b, cc = _check(sph, m, ref_limit2, speed_limit2)
             n_moved += a
             n_bad += b
@@ -745,8 +809,9 @@ def carry_pair_history(start, nbr, ut, active, old_start, old_nbr, old_ut, old_a
 
 
 @njit(cache=True)
-def transpose_pairs(start, nbr, n, tstart, tpair):
-    """tstart/tpair: for each j, the pair indices k with nbr[k] == j, in increasing k."""
+def transpose_pairs(start, nbr, n, tstart, tpair, tpos):
+    """tstart/tpair: for each j, the pair indices k with nbr[k] == j, in increasing k;
+    tpos: the inverse map (transposed position of each pair)."""
     total = start[n]
     tstart[:] = 0
     for k in range(total):
@@ -757,10 +822,11 @@ def transpose_pairs(start, nbr, n, tstart, tpair):
     for k in range(total):
         j = nbr[k]
         tpair[fill[j]] = k
+        tpos[k] = fill[j]
         fill[j] += 1
 
 
-@njit(cache=True, fastmath=FASTMATH)
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def panel_reach2(px, py, pz, pan, p, skin):
     """Squared distance from a point to the closed rectangle of panel p, ignoring the
     shared-edge rule (a sphere near a shared edge is a candidate for both panels, since it

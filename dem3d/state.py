@@ -81,18 +81,23 @@ class Pairs(NamedTuple):
 
     start:  (n+1,)    pairs of sphere i (as the lower index) are k = start[i] .. start[i+1]-1
     nbr:    (cap,)    j of pair k
-    tstart: (n+1,)    transpose: pairs in which sphere j is the higher index are
-    tpair:  (cap,)    tpair[tstart[j] .. tstart[j+1]-1]
-    ut:     (cap, 3)  tangential spring displacement of i relative to j [m]
-    active: (cap,)    1 if the pair touched at the last force evaluation
-    pf:     (cap, 8)  last evaluation: force on i (3) [N], n x F (3) [N] with n from i to j,
-                      half overlap [m], normal force [N] (compression positive)
+    tstart: (n+1,)    transpose: the pairs in which sphere j is the higher index occupy
+                      positions tstart[j] .. tstart[j+1]-1 of the transposed order
+    tpair:  (cap,)    pair index k at each transposed position
+    tpos:   (cap,)    transposed position of pair k (inverse of tpair)
+    ut:     (cap, 3)  tangential spring displacement of i relative to j [m], by pair k
+    active: (cap,)    1 if pair k touched at the last force evaluation
+    pf:     (cap, 8)  by TRANSPOSED position (so pass 2 reads it sequentially), from the
+                      last evaluation: force on j (3) [N], torque on j about its centre (3)
+                      [N m], normal force (compression +) [N], unused; all zero for a pair
+                      not in contact
     """
 
     start: np.ndarray
     nbr: np.ndarray
     tstart: np.ndarray
     tpair: np.ndarray
+    tpos: np.ndarray
     ut: np.ndarray
     active: np.ndarray
     pf: np.ndarray
