@@ -359,9 +359,12 @@ class Simulation:
         Save it with ``np.savez``; ``from_arrays`` resumes bitwise identically. Wall motions
         are functions and are not stored: pass the same ``walls`` again."""
         out: dict[str, np.ndarray] = {"version": np.array(_STATE_VERSION)}
+        used = {"pairs": int(self.pairs.start[-1]), "wall_pairs": int(self.wall_pairs.start[-1])}
         for prefix, rec in (("spheres", self.spheres), ("clumps", self.clumps), ("pairs", self.pairs),
                             ("wall_pairs", self.wall_pairs), ("panels", self.walls.panels)):
             for name, arr in rec._asdict().items():
+                if prefix in used and name not in ("start", "tstart"):
+                    arr = arr[:used[prefix]]          # drop the spare capacity
                 out[f"{prefix}.{name}"] = np.array(arr, copy=True)
         for name, value in self.params._asdict().items():
             out[f"params.{name}"] = np.array(value)
