@@ -23,8 +23,11 @@ bitwise independent of the thread count and of the scheduler):
 The leapfrog (central difference, as PFC) uses v(t - dt/2) in the velocity-dependent
 forces at time t, then v(t + dt/2) = v(t - dt/2) + dt a(t), x(t + dt) = x(t) + dt v(t + dt/2).
 
-fastmath: ``reassoc``/``contract``/... but not ``nnan``/``ninf`` so that the non-finite
-check inside the kernels keeps working (../shared/STACK.md 3.1).
+No fastmath: with ``reassoc``/``contract`` a freshly compiled process and one loading
+the same kernels from numba's cache gave different bits (LLVM fuses and reorders
+differently depending on where a function gets inlined), which breaks run-to-run
+reproducibility; strict IEEE code cost < 5 % here. (``nnan``/``ninf`` would also disable
+the non-finite check, ../shared/STACK.md 3.1.)
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+FASTMATH = False       # see the module docstring
 
 LINEAR = 0
 HERTZ_MINDLIN = 1
