@@ -6,9 +6,10 @@ Pure computation: no files, no printing, no logging. A workflow builds a Simulat
 ``to_arrays`` / ``Simulation.from_arrays`` give a checkpoint of plain numpy arrays from
 which a run resumes bitwise identically.
 
-Neighbour search: cell list with cell size 2 r_max + skin; a half Verlet list (pairs within
-r_i + r_j + skin) in CSR form whose capacity grows when a count exceeds it (the count is
-taken before the fill, so a fill never overflows); wall candidates within r + skin. The
+Neighbour search: cell list with cell size 2 r_max + skin and a half stencil; a half
+Verlet list (pairs within r_i + r_j + skin) scanned into fixed-capacity rows whose overflow
+is checked outside the kernel (grow and scan again), then compacted to CSR; wall
+candidates within r + skin. The
 lists are rebuilt when any sphere has moved more than skin/2, or any panel point more than
 skin/2, since the last build: then no pair can have closed a gap of skin unseen.
 """
@@ -111,6 +112,7 @@ class Simulation:
         self._wall_bufs = [_empty_wall_pairs(n, 0), _empty_wall_pairs(n, 0)]
         self._cur = 0
         self._wcur = 0
+        self._rows = np.empty((n, 16), np.int64)
         self._rebuild(first=True)
         self._need_rebuild = False
 
@@ -310,16 +312,22 @@ class Simulation:
         cell, cell_start, order = kernels.cell_sort(sph.x, lo, inv_h, nc, pax, plo, plen)
         old = self.pairs
         new = self._pair_bufs[1 - self._cur]
-        start = np.zeros(n + 1, np.int64)
-        kernels.scan_pairs(sph.x, sph.r, sph.clump, cell, cell_start, order, nc, pax, plen, self.skin,
-                           start, new.nbr, False)
-        np.cumsum(start, out=start)
-        total = int(start[-1])
-        if new.nbr.shape[0] < total:          # capacity overflow: grow the spare buffer, then fill
+        counts = np.empty(n, np.int64)
+        xr = np.empty((n, 4))
+        xr[:, :3] = sph.x[order]
+        xr[:, 3] = sph.r[order]
+        clump_sorted = sph.clump[order]
+        while True:      # fixed-capacity rows; on overflow (checked here) grow and scan again
+            kernels.scan_pairs(sph.x, sph.r, sph.clump, cell, cell_start, order, xr, clump_sorted, nc, pax,
+                               plen, self.skin, kernels._FORWARD, self._rows, counts)
+            widest = int(counts.max()) if n else 0
+            if widest <= self._rows.shape[1]:
+                break
+            self._rows = np.empty((n, widest + 8), np.int64)
+        total = int(counts.sum())
+        if new.nbr.shape[0] < total:          # grow the spare CSR buffer
             new = _empty_pairs(n, int(1.25 * total) + 64)
-        new.start[:] = start
-        kernels.scan_pairs(sph.x, sph.r, sph.clump, cell, cell_start, order, nc, pax, plen, self.skin,
-                           new.start, new.nbr, True)
+        kernels.compact_rows(self._rows, counts, new.start, new.nbr)
         identity = np.arange(n, dtype=np.int64)
         kernels.carry_pair_history(new.start, new.nbr, new.ut, new.active, old.start, old.nbr, old.ut,
                                    old.active, identity)
@@ -402,6 +410,7 @@ class Simulation:
                            _empty_wall_pairs(n, 0)]
         self._cur = 0
         self._wcur = 0
+        self._rows = np.empty((n, 16), np.int64)
         self.walls = WallSet(walls)
         if self.walls.n_panels != a["panels.centre"].shape[0]:
             raise InvalidParameter("walls", f"{self.walls.n_panels} panels",

@@ -8,11 +8,12 @@ geometry helpers and the loops that call them together makes a stale cache impos
 Layout of one time step (no shared accumulator in any parallel loop, so every result is
 bitwise independent of the thread count and of the scheduler):
 
-1. ``pair_forces``     prange over spheres i: each half-list pair (i, j > i) evaluates the
-                       contact law once, updates its own tangential history and stores the
-                       force on i in its own pair slot.
-2. ``gather_and_move`` prange over spheres i: sums the pair forces in which i takes part
-                       (+F as the lower index, -F as the higher), evaluates i's wall-panel
+1. ``pair_forces``     prange over spheres i: each pair listed under i (half list: every
+                       pair once) evaluates the contact law once, updates its own
+                       tangential history, sums the force on i, and stores the force on
+                       the second sphere j in the pair's slot of j's (transposed) list.
+2. ``gather_and_move`` prange over spheres i: adds the forces stored for i as a second
+                       sphere (a sequential read), evaluates i's wall-panel
                        contacts (storing each force per wall pair for the panel loads), then
                        integrates i if it is a free sphere (leapfrog, PFC local damping).
 3. ``move_clumps``     prange over clumps: sums its members' forces and torques, integrates
@@ -217,7 +218,7 @@ def panel_closest_point(px, py, pz, pan, p):
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
 def pair_forces(sph, prs, prm, dt, pax, plen):
     """Pass 1 (module docstring): evaluate every half-list pair once. The force and torque
-    on the lower index i are summed into sph.f / sph.t; those on the higher index j are
+    on the first sphere i are summed into sph.f / sph.t; those on the second sphere j are
     written to the pair's slot in the transposed order (``prs.pf``), which pass 2 adds."""
     x = sph.x
     v = sph.v
@@ -351,14 +352,14 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
     n_fast = 0
     for i in prange(x.shape[0]):
         ri = r[i]
-        fx = f[i, 0]     # pairs where i is the lower index, summed by pass 1
+        fx = f[i, 0]     # pairs listed under i, summed by pass 1
         fy = f[i, 1]
         fz = f[i, 2]
         tx = t[i, 0]
         ty = t[i, 1]
         tz = t[i, 2]
         for kk in range(prs.tstart[i], prs.tstart[i + 1]):
-            # pairs where i is the higher index: sequential, zero rows for open pairs
+            # pairs where i is the second sphere: sequential, zero rows for open pairs
             fx += pf[kk, 0]
             fy += pf[kk, 1]
             fz += pf[kk, 2]
@@ -727,65 +728,96 @@ def _cell_coords(c, nc):
     return cx, cy, cz
 
 
-@njit(parallel=True, cache=True)
-def scan_pairs(x, r, clump, cell, cell_start, order, nc, pax, plen, skin,
-               start, nbr, fill):
-    """Half Verlet list: pairs (i, j > i) with |x_j - x_i| < r_i + r_j + skin, excluding
-    two spheres of the same clump.
+# the 13 neighbour-cell offsets (dx, dy, dz) after (0, 0, 0) in lexicographic (dz, dy, dx)
+# order: with the own cell they form a half stencil that meets every pair of cells once
+_FORWARD = np.array([(dx, dy, dz) for dz in (-1, 0, 1) for dy in (-1, 0, 1) for dx in (-1, 0, 1)
+                     if (dz, dy, dx) > (0, 0, 0)], dtype=np.int64)
 
-    With ``fill`` False, only counts: start[i + 1] = number of pairs of i.
-    With ``fill`` True, writes j into nbr[start[i] .. start[i + 1]) (start is the prefix sum).
-    Neighbour cells are visited in a fixed order, so row contents are deterministic.
-    """
+
+@njit(parallel=True, cache=True)
+def scan_pairs(x, r, clump, cell, cell_start, order, xr, clump_sorted, nc, pax, plen, skin, forward,
+               rows, counts):
+    """Half Verlet list into fixed-capacity rows: pairs with |x_j - x_i| < r_i + r_j + skin,
+    two spheres of one clump excluded. Sphere i lists j from its own cell with j > i and
+    all j from the 13 forward neighbour cells, so every pair appears once (needs >= 3
+    cells along a periodic axis). xr (n, 4) = (x, y, z, r) and clump_sorted (n,) are the
+    spheres in cell order (order[k] is the sphere at position k), so candidates are read
+    contiguously. rows: (n, cap) output; counts: (n,) output, which may exceed cap: then
+    the rows overflowed and the caller must grow cap and scan again. Cells are visited in
+    a fixed order, so row contents are deterministic."""
     n = x.shape[0]
+    cap = rows.shape[1]
     for i in prange(n):
         cx, cy, cz = _cell_coords(cell[i], nc)
+        xi = x[i, 0]
+        yi = x[i, 1]
+        zi = x[i, 2]
+        ri = r[i]
+        ci = clump[i]
         cnt = 0
-        pos = start[i] if fill else 0
-        for oz in range(-1, 2):
-            z = cz + oz
-            if z < 0 or z >= nc[2]:
-                if pax != 2:
-                    continue
-                z = (z + nc[2]) % nc[2]
-            for oy in range(-1, 2):
-                y = cy + oy
+        for o in range(14):
+            if o == 0:
+                xx, y, z = cx, cy, cz
+            else:
+                xx = cx + forward[o - 1, 0]
+                y = cy + forward[o - 1, 1]
+                z = cz + forward[o - 1, 2]
+                if z < 0 or z >= nc[2]:
+                    if pax != 2:
+                        continue
+                    z = (z + nc[2]) % nc[2]
                 if y < 0 or y >= nc[1]:
                     if pax != 1:
                         continue
                     y = (y + nc[1]) % nc[1]
-                for ox in range(-1, 2):
-                    xx = cx + ox
-                    if xx < 0 or xx >= nc[0]:
-                        if pax != 0:
-                            continue
-                        xx = (xx + nc[0]) % nc[0]
-                    c = (z * nc[1] + y) * nc[0] + xx
-                    for kk in range(cell_start[c], cell_start[c + 1]):
-                        j = order[kk]
-                        if j <= i:
-                            continue
-                        if clump[i] >= 0 and clump[i] == clump[j]:
-                            continue
-                        dx, dy, dz = separation(x, i, j, pax, plen)
-                        cut = r[i] + r[j] + skin
-                        if dx * dx + dy * dy + dz * dz < cut * cut:
-                            if fill:
-                                nbr[pos] = j
-                                pos += 1
-                            else:
-                                cnt += 1
-        if not fill:
-            start[i + 1] = cnt
+                if xx < 0 or xx >= nc[0]:
+                    if pax != 0:
+                        continue
+                    xx = (xx + nc[0]) % nc[0]
+            c = (z * nc[1] + y) * nc[0] + xx
+            for kk in range(cell_start[c], cell_start[c + 1]):
+                if ci >= 0 and ci == clump_sorted[kk]:
+                    continue
+                dx = xr[kk, 0] - xi
+                dy = xr[kk, 1] - yi
+                dz = xr[kk, 2] - zi
+                if pax == 0:
+                    dx = _min_image(dx, plen)
+                elif pax == 1:
+                    dy = _min_image(dy, plen)
+                elif pax == 2:
+                    dz = _min_image(dz, plen)
+                cut = ri + xr[kk, 3] + skin
+                if dx * dx + dy * dy + dz * dz < cut * cut:
+                    j = order[kk]
+                    if o == 0 and j <= i:
+                        continue
+                    if cnt < cap:
+                        rows[i, cnt] = j
+                    cnt += 1
+        counts[i] = cnt
+
+
+@njit(cache=True)
+def compact_rows(rows, counts, start, nbr):
+    """CSR from fixed-capacity rows: start = prefix sum of counts, nbr = the rows' entries."""
+    start[0] = 0
+    for i in range(counts.shape[0]):
+        start[i + 1] = start[i] + counts[i]
+    for i in range(counts.shape[0]):
+        s = start[i]
+        for m in range(counts[i]):
+            nbr[s + m] = rows[i, m]
 
 
 @njit(parallel=True, cache=True)
 def carry_pair_history(start, nbr, ut, active, old_start, old_nbr, old_ut, old_active, new_to_old):
     """Copy each surviving pair's tangential history from the previous list.
 
-    A pair (i, j) is looked up in the old row of i; if sphere indices were permuted
-    (``new_to_old``) the old pair may be stored the other way round, then the history,
-    a displacement of i relative to j, changes sign."""
+    A pair (i, j) is looked up in the old row of i, then in the old row of j: which of
+    the two spheres lists the pair depends on their cells, which change between builds.
+    Found the other way round, the history (a displacement of the first sphere relative
+    to the second) changes sign. ``new_to_old`` maps sphere indices if they were permuted."""
     for i in prange(start.shape[0] - 1):
         oi = new_to_old[i]
         for k in range(start[i], start[i + 1]):

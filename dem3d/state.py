@@ -77,11 +77,12 @@ class Clumps(NamedTuple):
 
 
 class Pairs(NamedTuple):
-    """Half Verlet list (pairs i < j) in CSR form, with per-pair contact history.
+    """Half Verlet list in CSR form (each pair once, listed under its *first* sphere i,
+    the one whose cell comes first in the scan), with per-pair contact history.
 
-    start:  (n+1,)    pairs of sphere i (as the lower index) are k = start[i] .. start[i+1]-1
+    start:  (n+1,)    pairs listed under sphere i are k = start[i] .. start[i+1]-1
     nbr:    (cap,)    j of pair k
-    tstart: (n+1,)    transpose: the pairs in which sphere j is the higher index occupy
+    tstart: (n+1,)    transpose: the pairs in which sphere j is the second sphere occupy
                       positions tstart[j] .. tstart[j+1]-1 of the transposed order
     tpair:  (cap,)    pair index k at each transposed position
     tpos:   (cap,)    transposed position of pair k (inverse of tpair)
