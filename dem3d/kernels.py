@@ -240,6 +240,13 @@ def pair_forces(sph, prs, prm, dt, pax, plen):
         xi = x[i, 0]
         yi = x[i, 1]
         zi = x[i, 2]
+        vix = v[i, 0]      # hoisted: numba cannot prove the stores below do not alias them
+        viy = v[i, 1]
+        viz = v[i, 2]
+        wix = w[i, 0]
+        wiy = w[i, 1]
+        wiz = w[i, 2]
+        imi = inv_m[i]
         sfx = 0.0
         sfy = 0.0
         sfz = 0.0
@@ -279,15 +286,15 @@ def pair_forces(sph, prs, prm, dt, pax, plen):
             ai = ri - h          # lever arms to the centre of the overlap region
             aj = r[j] - h
             # contact-point velocity of i relative to j: v_i - v_j + (a_i w_i + a_j w_j) x n
-            wx = ai * w[i, 0] + aj * w[j, 0]
-            wy = ai * w[i, 1] + aj * w[j, 1]
-            wz = ai * w[i, 2] + aj * w[j, 2]
-            vrx = v[i, 0] - v[j, 0] + (wy * nz - wz * ny)
-            vry = v[i, 1] - v[j, 1] + (wz * nx - wx * nz)
-            vrz = v[i, 2] - v[j, 2] + (wx * ny - wy * nx)
+            wx = ai * wix + aj * w[j, 0]
+            wy = ai * wiy + aj * w[j, 1]
+            wz = ai * wiz + aj * w[j, 2]
+            vrx = vix - v[j, 0] + (wy * nz - wz * ny)
+            vry = viy - v[j, 1] + (wz * nx - wx * nz)
+            vrz = viz - v[j, 2] + (wx * ny - wy * nx)
             m_eff = 0.0
             if need_m:
-                s = inv_m[i] + inv_m[j]
+                s = imi + inv_m[j]
                 m_eff = 1.0 / s if s > 0.0 else 0.0
             r_eff = ri * r[j] / rs if need_r else 0.0
             fx, fy, fz, fn, ux, uy, uz = contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz,
