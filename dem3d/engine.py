@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple, Sequence
 
+import numba
 import numpy as np
 
 from analytic.errors import InvalidParameter
@@ -57,12 +58,16 @@ class Simulation:
     skin:           Verlet skin [m] (default 0.4 r_min)
     sort_by_cell:   reorder bodies by cell once at construction for memory locality;
                     ``original_index[k]`` is then the specimen index of sphere k
+    spheres_per_thread: ``step`` uses at most one numba thread per this many spheres
+                    (small systems run faster on one thread); results do not depend on
+                    the thread count
     """
 
     def __init__(self, specimen: Specimen, params: ContactParams, *, dt: float,
                  walls: Sequence[Wall] = (), gravity=(0.0, 0.0, -9.81),
                  periodic: Periodic | None = None, skin: float | None = None,
-                 allow_unsafe_dt: bool = False, sort_by_cell: bool = True):
+                 allow_unsafe_dt: bool = False, sort_by_cell: bool = True,
+                 spheres_per_thread: int = 4000):
         pos = np.ascontiguousarray(specimen.positions, float).reshape(-1, 3)
         n = pos.shape[0]
         radii = np.ascontiguousarray(specimen.radii, float).reshape(-1)
@@ -81,6 +86,7 @@ class Simulation:
                else np.ascontiguousarray(specimen.velocities, float).reshape(n, 3))
         self.params = params
         self.density = density
+        self.spheres_per_thread = int(spheres_per_thread)
         self.gravity = np.asarray(gravity, float).reshape(3)
         self.periodic = periodic
         r_min = float(radii.min())
@@ -101,6 +107,8 @@ class Simulation:
         pos, radii, labels, vel = pos[new_to_old], radii[new_to_old], labels[new_to_old], vel[new_to_old]
         self.spheres, self.clumps = _build_bodies(pos, radii, labels, vel, density)
         self.walls = WallSet(walls)
+        if periodic is not None:
+            _check_panels_periodic(self.walls, periodic.axis)
         self.walls.set_velocities(0.0)
         p = self.walls.n_panels
         self.panel_force = np.zeros((p, 3))
@@ -192,7 +200,14 @@ class Simulation:
         hold the last step's loads). Raises ``BlowUp`` (one line) on a non-finite state or
         a sphere faster than half the smallest radius per step.
         """
-        n_steps = int(n_steps)
+        threads = numba.get_num_threads()
+        numba.set_num_threads(max(1, min(threads, self.n_spheres // max(1, self.spheres_per_thread))))
+        try:
+            return self._step(int(n_steps), record_panels)
+        finally:
+            numba.set_num_threads(threads)
+
+    def _step(self, n_steps: int, record_panels: bool):
         p = self.walls.n_panels
         rows = n_steps if record_panels else 0
         hist_f = np.zeros((rows, p, 3))
@@ -429,7 +444,7 @@ class Simulation:
         out["original_index"] = self.original_index.copy()
         scalars = {"time": self.time, "step": self.step_count, "dt": self.dt, "skin": self.skin,
                    "density": self.density, "dt_critical": self.dt_critical, "n_rebuilds": self.n_rebuilds,
-                   "need_rebuild": self._need_rebuild}
+                   "need_rebuild": self._need_rebuild, "spheres_per_thread": self.spheres_per_thread}
         for name, value in scalars.items():
             out[name] = np.array(value)
         out["gravity"] = self.gravity.copy()
@@ -476,6 +491,7 @@ class Simulation:
         self.dt_critical = float(a["dt_critical"])
         self.n_rebuilds = int(a["n_rebuilds"])
         self._need_rebuild = bool(a["need_rebuild"])
+        self.spheres_per_thread = int(a["spheres_per_thread"])
         self.gravity = a["gravity"].astype(float).copy()
         per = a["periodic"]
         self.periodic = None if per[0] < 0 else Periodic(int(per[0]), float(per[1]), float(per[2]))
@@ -516,6 +532,18 @@ def _check_periodic(periodic: Periodic, r_max: float, skin: float) -> None:
     if not periodic.length >= need:
         raise InvalidParameter("periodic.length", periodic.length, f">= {need:.4g} m",
                                "three cells of 2 r_max + skin")
+
+
+def _check_panels_periodic(walls: WallSet, axis: int) -> None:
+    """A panel may not end inside the periodic direction: coordinates along it are only
+    defined modulo the period, so any in-plane extent with a component along the axis
+    must be unbounded."""
+    pan = walls.panels
+    for p in range(walls.n_panels):
+        for e, half in ((pan.e1[p], pan.half[p, 0]), (pan.e2[p], pan.half[p, 1])):
+            if abs(e[axis]) > 1e-12 and np.isfinite(half):
+                raise InvalidParameter(f"panel {p} half extent", float(half),
+                                       "np.inf along the periodic axis (use unbounded_width / periodic_axis)")
 
 
 def _build_bodies(pos, radii, labels, vel, density) -> tuple[Spheres, Clumps]:

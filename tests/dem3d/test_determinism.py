@@ -10,7 +10,7 @@ from dem3d import Periodic, Simulation, Wall, box, linear, rotation, segmented_w
 from dem3d import prep
 
 
-def build(seed=2):
+def build(seed=2, spheres_per_thread=4000):
     """Spheres and clumps falling in a periodic box onto a floor, against a segmented wall
     that rotates about its base: every code path (pairs, walls, clumps, motion, wrap)."""
     rng = np.random.default_rng(seed)
@@ -22,7 +22,7 @@ def build(seed=2):
                                          unbounded_width=True),
                   rotation((0.0, 0.1, 0.0), (0, 1, 0), -0.5))]
     return Simulation(spec, linear(1e5, 4e4, 0.5, zeta_n=0.3, zeta_s=0.2), dt=3e-5, walls=walls,
-                      periodic=Periodic(1, 0.0, 0.2))
+                      periodic=Periodic(1, 0.0, 0.2), spheres_per_thread=spheres_per_thread)
 
 
 def state(sim):
@@ -41,7 +41,7 @@ def test_two_runs_are_bitwise_equal_and_independent_of_thread_count():
     runs = []
     for threads in (1, 1, min(2, numba.config.NUMBA_NUM_THREADS)):
         numba.set_num_threads(threads)
-        sim = build()
+        sim = build(spheres_per_thread=1)          # really use every thread on this small system
         sim.step(1500)
         assert sim.n_rebuilds > 0 and np.count_nonzero(sim.pairs.active) > 5
         runs.append(state(sim))

@@ -137,3 +137,14 @@ def test_translating_wall_with_a_ramp_schedule():
     sim.step(1000)
     expected = v0 * (0.5 * t_ramp + (sim.time - t_ramp))
     np.testing.assert_allclose(sim.panels.centre[0] - [0.0, 0.5, 1.0], expected, atol=1e-14)
+
+
+def test_finite_panel_along_the_periodic_axis_is_refused():
+    """Coordinates along a periodic axis are defined modulo the period, so a panel
+    cannot end inside it (one-line InvalidParameter)."""
+    from analytic.errors import InvalidParameter
+
+    spec = single_specimen([[0.1, 0.1, 0.1]], R, RHO)
+    finite = rectangle((0.0, 0.25, 0.5), (0, 1, 0), (0, 0, 1), (0.25, 0.5))
+    with pytest.raises(InvalidParameter, match="periodic axis"):
+        Simulation(spec, linear(1e5, 4e4, 0.5), dt=1e-5, walls=[Wall("w", finite)], periodic=Periodic(1, 0.0, 0.5))
