@@ -148,12 +148,68 @@ def _console():
     return Console()
 
 
+def _add_bench(sub):
+    p = sub.add_parser("bench", help="speed benchmarks", description="Speed benchmarks against reference codes.")
+    targets = p.add_subparsers(dest="target", required=True, parser_class=_Parser)
+    d = targets.add_parser("dem3d", help="dem3d vs LIGGGHTS on the settled-packing problem",
+                           description="Time dem3d and LIGGGHTS on benchmarks/liggghts (same contact law, "
+                                       "walls, periodic y, dt 2e-5) and print particle-steps/s and their ratio.")
+    d.add_argument("--n", type=int, choices=[10_000, 30_000], default=30_000, help="spheres (30000)")
+    d.add_argument("--steps", type=_count("steps"), default=5_000, help="time steps (5000)")
+    d.add_argument("--threads", type=int, choices=[1, 2], default=2, help="numba threads for dem3d (2)")
+    d.add_argument("--no-liggghts", action="store_true", help="time dem3d only")
+    d.add_argument("--scaling", action="store_true",
+                   help="also time 10k, 30k and 100k spheres (the 10k packing tiled) for --steps/10 steps")
+    d.add_argument("--json", action="store_true", help="machine-readable output")
+    d.set_defaults(func=_cmd_bench_dem3d)
+
+
+def _count(name: str):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if value < 1:
+            raise argparse.ArgumentTypeError(str(InvalidParameter(name, text, ">= 1")))
+        return value
+    parse.__name__ = name
+    return parse
+
+
+def _cmd_bench_dem3d(args) -> int:
+    from workflows.bench import bench_dem3d, scaling
+
+    result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts)
+    rows = scaling(max(1, args.steps // 10), args.threads) if args.scaling else None
+    if args.json:
+        if rows is not None:
+            result["scaling"] = rows
+        print(json.dumps(result, indent=2))
+        return 0
+    ours, theirs = result["wallsim_particle_steps_per_s"], result["liggghts_particle_steps_per_s"]
+    print(f"dem3d benchmark: {result['n']} spheres x {result['steps']} steps, dem3d on {result['threads']} thread(s)")
+    print(f"  wallsim  {ours:10.3e} particle-steps/s  ({result['wallsim_seconds']:.2f} s)")
+    if theirs is not None:
+        print(f"  LIGGGHTS {theirs:10.3e} particle-steps/s  ({result['liggghts_seconds']:.2f} s, 1 process)")
+        print(f"  ratio    {result['ratio']:.2f}")
+        w, lg = result["check"]["wallsim"], result["check"]["liggghts"]
+        print(f"  check: kinetic energy {w['kinetic_energy_J']:.4g} vs {lg['kinetic_energy_J']:.4g} J, "
+              f"rotational {w['rotational_energy_J']:.4g} vs {lg['rotational_energy_J']:.4g} J, "
+              f"contacts {w['contacts']} vs {lg['contacts']}")
+    for row in rows or []:
+        print(f"  N = {row['n']:6d}: {row['ms_per_step']:7.3f} ms/step, {row['ns_per_particle_step']:6.1f} ns per "
+              f"particle-step ({row['steps']} steps)")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="wallsim", description="Earth pressure on retaining walls: theory and DEM.")
     parser.add_argument("--version", action="version", version=f"wallsim {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_theory(sub)
     _add_dsm(sub)
+    _add_bench(sub)
     return parser
 
 
