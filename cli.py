@@ -143,6 +143,125 @@ def _is_float(text: str) -> bool:
         return False
 
 
+def _case_group(sub, name: str, help: str, description: str = ""):
+    """The sub-subparsers of ``wallsim <name>`` (compare / calibrate / validate), created on
+    first use and shared by every case that registers under it (other engines add theirs)."""
+    parser = sub.choices.get(name)
+    if parser is None:
+        parser = sub.add_parser(name, help=help, description=description or help)
+        parser.add_subparsers(dest="case", required=True, parser_class=_Parser)
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return action
+    raise RuntimeError(f"wallsim {name} has no sub-commands")
+
+
+def _add_run_options(p, *, seed_default: int = 1):
+    """Options every DEM command shares: seed, overrides, output, recording, progress."""
+    p.add_argument("--seed", type=_count("seed"), default=seed_default, help=f"random seed ({seed_default})")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
+                   help="override any case field, e.g. --set clump_fraction=0 --set particle_friction=0.5")
+    p.add_argument("--config", metavar="FILE.toml", help="case overrides from a TOML file (applied before --set)")
+    p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--out", default="runs", metavar="DIR", help="root of the run folders (runs)")
+
+
+def _add_recording_options(p):
+    p.add_argument("--rrd", metavar="FILE", help="recording path (default: recording.rrd in the run folder)")
+    p.add_argument("--no-rrd", action="store_true", help="write no recording")
+    p.add_argument("--spawn", action="store_true", help="also open the Rerun viewer")
+    p.add_argument("--every", type=_count("every"), default=5,
+                   help="log the scene every N-th output frame (5)")
+
+
+def _add_compare_nadukuru(sub):
+    cases = _case_group(sub, "compare", "run a DEM case and set it beside the theories")
+    p = cases.add_parser("nadukuru", help="Nadukuru & Michalowski's 3.1 m wall: four modes of movement (3D)",
+                         description="Spheres and two-sphere clumps rained behind a 3.1 m wall of 6 segments; "
+                                     "the wall translates or rotates to Delta/H = 0.008. DEM K and resultant "
+                                     "height beside the paper, Fang & Ishibashi, Coulomb, Rankine and the DSM. "
+                                     "Example: wallsim compare nadukuru --mode RT --wall rough --particles 6000")
+    p.add_argument("--mode", choices=["T", "RB", "RT", "mixed"], default="T",
+                   help="T translation, RB rotation about the base, RT about the top, "
+                        "mixed about a point H/2 above the top (T)")
+    p.add_argument("--wall", choices=["rough", "smooth"], default="rough",
+                   help="wall friction 0.35 (rough) or 0 (smooth) (rough)")
+    p.add_argument("--particles", type=_count("particles"), default=30_000,
+                   help="spheres incl. clump members (30000 = paper scale; fewer scale the grains up)")
+    _add_recording_options(p)
+    _add_run_options(p)
+    p.set_defaults(func=_cmd_compare_nadukuru)
+
+
+def _nadukuru_case(args):
+    import dataclasses
+
+    from workflows.config import apply_sets, apply_toml
+    from workflows.nadukuru import Movement, NadukuruCase, SpecimenRecipe, WallSetup, rough_or_smooth
+
+    case = NadukuruCase(specimen=SpecimenRecipe(particles=args.particles),
+                        wall=WallSetup(friction=rough_or_smooth(args.wall)),
+                        movement=Movement(mode=getattr(args, "mode", "T")), seed=args.seed)
+    if args.config:
+        case = apply_toml(case, args.config)
+    return dataclasses.replace(apply_sets(case, args.set))
+
+
+def _cmd_compare_nadukuru(args) -> int:
+    from pathlib import Path
+
+    from workflows.nadukuru_run import compare_nadukuru
+    from workflows.progress import progress
+    from workflows.report import nadukuru_text
+
+    case = _nadukuru_case(args)
+    with progress(args.quiet) as bar:
+        result, folder = compare_nadukuru(case, args.wall, root=Path(args.out), rrd=args.rrd,
+                                          spawn=args.spawn, every=args.every, record=not args.no_rrd,
+                                          progress=bar)
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        _console().print(nadukuru_text(result))
+    print(f"run folder: {folder}", file=sys.stderr)
+    return 0
+
+
+def _add_calibrate_triaxial(sub):
+    tests = _case_group(sub, "calibrate", "calibrate DEM micro-parameters with virtual tests")
+    p = tests.add_parser("triaxial", help="numerical triaxial test on the Nadukuru backfill mixture (3D)",
+                         description="Cubical triaxial test (six servo platens, sigma_2 = sigma_3) on the "
+                                     "sphere/clump mixture; peak and critical-state phi, written to a "
+                                     "calibration card that `compare nadukuru` uses for its theories.")
+    p.add_argument("--particles", type=_count("particles"), default=8200, help="spheres (8200, the paper's)")
+    p.add_argument("--confining", type=_number("confining", 0, None, unit="kPa"), default=200.0,
+                   help="confining stress [kPa] (200)")
+    _add_run_options(p)
+    p.set_defaults(func=_cmd_calibrate_triaxial, mode="T", wall="rough")
+
+
+def _cmd_calibrate_triaxial(args) -> int:
+    from pathlib import Path
+
+    from workflows.progress import progress
+    from workflows.triaxial import TriaxialSetup, calibrate_triaxial
+
+    case = _nadukuru_case(args)
+    with progress(args.quiet) as bar:
+        card, path = calibrate_triaxial(case, TriaxialSetup(confining=args.confining * 1e3),
+                                        particles=args.particles, root=Path(args.out), progress=bar)
+    if args.json:
+        print(json.dumps(card, indent=2))
+    else:
+        print(f"triaxial: peak phi {card['phi_peak_deg']:.1f} deg at axial strain {card['strain_at_peak']:.3f}, "
+              f"end (critical-state estimate) {card['phi_end_deg']:.1f} deg; porosity {card['porosity']:.3f}; "
+              f"{card['particles']} spheres, seed {card['seed']}, {card['wall_time_s']:.0f} s "
+              f"(paper: 39 deg)")
+    print(f"calibration card: {path}", file=sys.stderr)
+    return 0
+
+
 def _console():
     from rich.console import Console
     return Console()
@@ -210,6 +329,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_theory(sub)
     _add_dsm(sub)
     _add_bench(sub)
+    _add_compare_nadukuru(sub)
+    _add_calibrate_triaxial(sub)
     return parser
 
 

@@ -212,6 +212,12 @@ class Recorder:
                                             vectors=(x1 - x0)[::k].astype(np.float32)))
 
     # ------------------------------------------------------------------ series
+    def log_metrics(self, step: int, time: float, metrics: dict[str, float],
+                    wall_disp_over_H: float | None = None) -> None:
+        """Buffer scalar series (sent with ``send_columns`` on close); cheap per call."""
+        if self.rec is not None:
+            self._remember(step, time, wall_disp_over_H, metrics)
+
     def _remember(self, step, time, disp, metrics) -> None:
         if not metrics:
             return

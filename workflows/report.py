@@ -94,3 +94,29 @@ def dsm_text(mode_code: str, result, preset, case):
                      "(maximum wall reaction over a family of curved surfaces), so the figures differ "
                      "from Table 3; see analytic/slices.py.", style="yellow")
     return Group(t, notes)
+
+
+def nadukuru_text(res: dict):
+    d, p = res["dem"], res["paper"]
+    t = Table(title=f"Nadukuru & Michalowski: mode {res['mode']}, {res['wall']} wall, {res['particles']} spheres, "
+                    f"seed {res['seed']}, {res['wall_time_s']:.0f} s", title_justify="left")
+    for col in ("", "K", "h/H", "note"):
+        t.add_column(col, justify="right" if col in ("K", "h/H") else "left")
+
+    def f(x, fmt):
+        return "" if x is None else format(x, fmt)
+
+    t.add_row("wallsim DEM (active)", f(d["K"], ".3f"), f(d["resultant_height_over_H"], ".3f"),
+              f"porosity {d['porosity']:.3f}; steady by Delta/H {d['disp_over_H_steady']:.4f}")
+    t.add_row("wallsim DEM (at rest)", f(d["K_at_rest"], ".3f"), f(d["resultant_height_over_H_at_rest"], ".3f"),
+              f"wall load {d['at_rest_wall_load_kN']:.1f} kN per 0.5 m (paper ~15.4)")
+    t.add_row("paper's DEM", f(p.get("K"), ".3f"), f(p.get("resultant_height_over_H"), ".3f"), p.get("source", ""))
+    fi = p.get("fang_ishibashi")
+    if fi:
+        t.add_row("Fang & Ishibashi", f(fi["K"], ".2f"), f(fi["resultant_height_over_H"], ".2f"), "physical tests")
+    for row in res["theory"]:
+        t.add_row(row["name"], f(row["K"], ".3f"), f(row["resultant_height_over_H"], ".3f"), row["note"])
+    foot = Text("K: eq. 6, normal load / (0.5 rho (1 - n) g H^2 w) with the measured n; theories give their "
+                "normal (horizontal) coefficient; h/H: height of the resultant above the base.\n"
+                f"phi for the theories: {res['phi_deg']:.1f} deg ({res['phi_source']})", style="dim")
+    return Group(t, foot)
