@@ -44,6 +44,7 @@ LINEAR = 0
 HERTZ_MINDLIN = 1
 RATIO = 0
 ABSOLUTE = 1
+COULOMB_ELASTIC = 0
 SQRT_5_6 = math.sqrt(5.0 / 6.0)
 
 
@@ -72,8 +73,9 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy,
     Tangential (incremental, Cundall & Strack 1979): the stored displacement is first
     rotated into the current tangent plane (projected, magnitude kept), then
     u_t += v_t dt, F_t = -k_t u_t - c_t v_t, and if |F_t| > mu Fe the force is scaled back
-    to mu Fe and u_t set consistently (-(F_t + c_t v_t) / k_t), as LIGGGHTS
-    tangential_model_history; the cap uses the elastic normal force (PFC linear model).
+    to the cap and u_t set consistently (-(F_t + c_t v_t) / k_t), as LIGGGHTS
+    tangential_model_history; the cap uses the elastic normal force Fe (PFC linear model)
+    or, with prm.coulomb = COULOMB_TOTAL, |Fn| including the viscous part (LIGGGHTS).
     """
     vn = vrx * nx + vry * ny + vrz * nz
     vtx = vrx - vn * nx
@@ -124,7 +126,8 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy,
     ftx = -kt * ux - ct * vtx
     fty = -kt * uy - ct * vty
     ftz = -kt * uz - ct * vtz
-    fmax = mu * fe if fe > 0.0 else 0.0
+    cap = fe if prm.coulomb == COULOMB_ELASTIC else abs(fn)
+    fmax = mu * cap if cap > 0.0 else 0.0
     ft2 = ftx * ftx + fty * fty + ftz * ftz
     if ft2 > fmax * fmax:
         scale = fmax / math.sqrt(ft2)
