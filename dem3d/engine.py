@@ -159,12 +159,12 @@ class Simulation:
         return np.concatenate([m_free, 1.0 / self.clumps.inv_m])
 
     # ---------------------------------------------------------------- control
-    def set_params(self, params: ContactParams) -> None:
-        """Swap the contact law between stages (e.g. local damping on for settling).
-        The time step is re-checked against the new stiffness."""
+    def set_params(self, params: ContactParams, *, allow_unsafe_dt: bool = False) -> None:
+        """Swap the contact law between stages (e.g. local damping on for settling). The
+        time step is re-checked against the new stiffness (one-line InvalidParameter)."""
         r_min = self.r_min
         crit = critical_time_step(params, self.density * 4.0 / 3.0 * math.pi * r_min ** 3, r_min, self.density)
-        check_time_step(self.dt, crit, allow_unsafe=True)
+        check_time_step(self.dt, crit, allow_unsafe=allow_unsafe_dt)
         self.params = params
         self.dt_critical = crit
 
