@@ -40,11 +40,16 @@ from numba import njit, prange
 
 FASTMATH = False       # see the module docstring
 
+from . import params as _params
+
+# switch values as plain module constants (numba freezes them into the compiled code)
 LINEAR = 0
 HERTZ_MINDLIN = 1
 RATIO = 0
 ABSOLUTE = 1
 COULOMB_ELASTIC = 0
+assert (LINEAR, HERTZ_MINDLIN, RATIO, ABSOLUTE, COULOMB_ELASTIC) == (
+    _params.LINEAR, _params.HERTZ_MINDLIN, _params.RATIO, _params.ABSOLUTE, _params.COULOMB_ELASTIC)
 SQRT_5_6 = math.sqrt(5.0 / 6.0)
 
 
