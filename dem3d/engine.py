@@ -9,9 +9,9 @@ which a run resumes bitwise identically.
 Neighbour search: cell list with cell size 2 r_max + skin and a half stencil; a half
 Verlet list (pairs within r_i + r_j + skin) scanned into fixed-capacity rows whose overflow
 is checked outside the kernel (grow and scan again), then compacted to CSR; wall
-candidates within r + skin. The
-lists are rebuilt when any sphere has moved more than skin/2, or any panel point more than
-skin/2, since the last build: then no pair can have closed a gap of skin unseen.
+candidates within r + skin. The lists are rebuilt when any sphere has moved more than
+skin/2, or any panel point more than skin/2, since the last build: then no pair can have
+closed a gap of skin unseen.
 """
 
 from __future__ import annotations
