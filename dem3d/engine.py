@@ -399,8 +399,8 @@ class Simulation:
         identity = np.arange(n, dtype=np.int64) if new_to_old is None else new_to_old
         kernels.carry_pair_history(new.start, new.nbr, new.ut, new.active, old.start, old.nbr, old.ut,
                                    old.active, identity)
-        kernels.touching_first(new.start, new.nbr, new.ut, new.active, np.empty(total, np.int64),
-                               np.empty((total, 3)), np.empty(total, np.uint8))
+        kernels.touching_first(sph.x, sph.r, pax, plen, new.start, new.nbr, new.ut, new.active,
+                               np.empty(total, np.int64), np.empty((total, 3)), np.empty(total, np.uint8))
         kernels.transpose_pairs(new.start, new.nbr, n, new.tstart, new.tpair, new.tpos)
         # pass 2 sums every transposed row: rows of open pairs must be zero; rows of
         # carried contacts are rewritten by the next pass 1 before pass 2 reads them
