@@ -1,19 +1,29 @@
 """dem3d: a numba soft-sphere / clump DEM engine with moving segmented walls.
 
 Pure computation: nothing in this package writes files, prints or logs (workflows/ and
-cli.py do). Typical use::
+cli.py do). Typical use (a 0.5 m periodic slab, a 6-panel wall at x = 0 that turns about
+its base, the backfill on +x)::
 
-    from dem3d import (Simulation, Periodic, Wall, linear, box, segmented_wall, rotation,
-                       random_specimen, settle, run)
-    spec = random_specimen(np.random.default_rng(1), lo, hi, 2000, 0.046, 0.0736,
-                           clump_fraction=0.3)
-    sim = Simulation(spec, linear(8.3e6, 3.32e6, 0.65, zeta_n=0.3), dt=2e-5,
-                     walls=[Wall("box", box(lo, hi_box, periodic_axis=1)),
-                            Wall("wall", segmented_wall(...), rotation(pivot, axis, 1e-3))],
-                     periodic=Periodic(1, 0.0, 0.5))
-    settle(sim, ratio=1e-3)
-    for frame in run(sim, 10_000, every=500):
-        frame.panel_force      # (p, 3) force BY the particles ON each panel [N]
+    import numpy as np
+    from dem3d import (Periodic, Simulation, Wall, box, frame, linear, random_specimen,
+                       rotation, run, segmented_wall, settle, with_local_damping)
+
+    lo, hi = (0.0, 0.0, 0.0), (3.3, 0.5, 6.0)
+    spec = random_specimen(np.random.default_rng(1), lo, hi, 20_000, 0.046, 0.0736,
+                           clump_fraction=0.3, clump_overlap=1.0)
+    law = linear(8.3e6, 3.32e6, 0.65, zeta_n=0.3, zeta_s=0.3)
+    wall = segmented_wall((0.0, 0.25, 0.0), normal=(1, 0, 0), up=(0, 0, 1), width=0.5,
+                          height=3.1, n_segments=6, mu=0.35, unbounded_width=True)
+    sim = Simulation(spec, law, dt=2e-5, periodic=Periodic(1, 0.0, 0.5),
+                     walls=[Wall("box", box(lo, (3.3, 0.5, 8.0), periodic_axis=1, omit=("x-",))),
+                            Wall("wall", wall)])
+    settle(sim, ratio=1e-3)                       # rain and settle under gravity
+    np.savez("rest.npz", **sim.to_arrays())       # (a workflow does the I/O)
+    moving = [sim.walls.walls[0],
+              Wall("wall", wall, rotation((0, 0.25, 0), (0, 1, 0), -1e-3))]   # away from the fill
+    sim = Simulation.from_arrays(dict(np.load("rest.npz")), walls=moving)
+    for f in run(sim, 20_000, every=1000):
+        f.panel_force, f.panel_moment            # (6 + box panels, 3) [N], [N m]
 
 Modules: params (laws, time step), state (SoA records), clumps (mass properties),
 walls (panels, motions), kernels (all numba code), engine (Simulation), run (Frame,

@@ -9,9 +9,9 @@ which a run resumes bitwise identically.
 Neighbour search: cell list with cell size 2 r_max + skin and a half stencil; a half
 Verlet list (pairs within r_i + r_j + skin) scanned into fixed-capacity rows whose overflow
 is checked outside the kernel (grow and scan again), then compacted to CSR; wall
-candidates within r + skin. The
-lists are rebuilt when any sphere has moved more than skin/2, or any panel point more than
-skin/2, since the last build: then no pair can have closed a gap of skin unseen.
+candidates within r + skin. The lists are rebuilt when any sphere has moved more than
+skin/2, or any panel point more than skin/2, since the last build: then no pair can have
+closed a gap of skin unseen.
 """
 
 from __future__ import annotations
@@ -61,13 +61,15 @@ class Simulation:
     spheres_per_thread: ``step`` uses at most one numba thread per this many spheres
                     (small systems run faster on one thread); results do not depend on
                     the thread count
+    sort_every:     re-sort bodies by cell (``sort_by_cell``) at every this many
+                    neighbour-list builds, 0 = never; Frames stay in specimen order
     """
 
     def __init__(self, specimen: Specimen, params: ContactParams, *, dt: float,
                  walls: Sequence[Wall] = (), gravity=(0.0, 0.0, -9.81),
                  periodic: Periodic | None = None, skin: float | None = None,
                  allow_unsafe_dt: bool = False, sort_by_cell: bool = True,
-                 spheres_per_thread: int = 4000):
+                 spheres_per_thread: int = 4000, sort_every: int = 50):
         pos = np.ascontiguousarray(specimen.positions, float).reshape(-1, 3)
         n = pos.shape[0]
         radii = np.ascontiguousarray(specimen.radii, float).reshape(-1)
@@ -87,6 +89,7 @@ class Simulation:
         self.params = params
         self.density = density
         self.spheres_per_thread = int(spheres_per_thread)
+        self.sort_every = int(sort_every)
         self.gravity = np.asarray(gravity, float).reshape(3)
         self.periodic = periodic
         r_min = float(radii.min())
@@ -156,12 +159,12 @@ class Simulation:
         return np.concatenate([m_free, 1.0 / self.clumps.inv_m])
 
     # ---------------------------------------------------------------- control
-    def set_params(self, params: ContactParams) -> None:
-        """Swap the contact law between stages (e.g. local damping on for settling).
-        The time step is re-checked against the new stiffness."""
+    def set_params(self, params: ContactParams, *, allow_unsafe_dt: bool = False) -> None:
+        """Swap the contact law between stages (e.g. local damping on for settling). The
+        time step is re-checked against the new stiffness (one-line InvalidParameter)."""
         r_min = self.r_min
         crit = critical_time_step(params, self.density * 4.0 / 3.0 * math.pi * r_min ** 3, r_min, self.density)
-        check_time_step(self.dt, crit, allow_unsafe=True)
+        check_time_step(self.dt, crit, allow_unsafe=allow_unsafe_dt)
         self.params = params
         self.dt_critical = crit
 
@@ -220,7 +223,10 @@ class Simulation:
         done = 0
         while done < n_steps:
             if self._need_rebuild:
-                self._rebuild()
+                if self.sort_every > 0 and (self.n_rebuilds + 1) % self.sort_every == 0:
+                    self.sort_by_cell()      # locality decays as bodies move (includes the rebuild)
+                else:
+                    self._rebuild()
             todo = min(chunk, n_steps - done)
             om_mid, v_mid, om_end, v_end = self.walls.schedule(self.time, self.dt, todo if moving.any() else 0)
             if not moving.any():
@@ -335,6 +341,7 @@ class Simulation:
         order = self._locality_order(sph.x, sph.r, bodies)
         new_to_old = np.concatenate([np.arange(*bodies[b]) for b in order]).astype(np.int64)
         if np.array_equal(new_to_old, np.arange(n)):
+            self._rebuild()
             return new_to_old
         clump_order = np.array([sph.clump[bodies[b][0]] for b in order if sph.clump[bodies[b][0]] >= 0], np.int64)
         new_clump = -np.ones(len(self.clumps.x), np.int64)
@@ -392,6 +399,8 @@ class Simulation:
         identity = np.arange(n, dtype=np.int64) if new_to_old is None else new_to_old
         kernels.carry_pair_history(new.start, new.nbr, new.ut, new.active, old.start, old.nbr, old.ut,
                                    old.active, identity)
+        kernels.touching_first(sph.x, sph.r, pax, plen, new.start, new.nbr, new.ut, new.active,
+                               np.empty(total, np.int64), np.empty((total, 3)), np.empty(total, np.uint8))
         kernels.transpose_pairs(new.start, new.nbr, n, new.tstart, new.tpair, new.tpos)
         # pass 2 sums every transposed row: rows of open pairs must be zero; rows of
         # carried contacts are rewritten by the next pass 1 before pass 2 reads them
@@ -444,7 +453,8 @@ class Simulation:
         out["original_index"] = self.original_index.copy()
         scalars = {"time": self.time, "step": self.step_count, "dt": self.dt, "skin": self.skin,
                    "density": self.density, "dt_critical": self.dt_critical, "n_rebuilds": self.n_rebuilds,
-                   "need_rebuild": self._need_rebuild, "spheres_per_thread": self.spheres_per_thread}
+                   "need_rebuild": self._need_rebuild, "spheres_per_thread": self.spheres_per_thread,
+                   "sort_every": self.sort_every}
         for name, value in scalars.items():
             out[name] = np.array(value)
         out["gravity"] = self.gravity.copy()
@@ -492,6 +502,7 @@ class Simulation:
         self.n_rebuilds = int(a["n_rebuilds"])
         self._need_rebuild = bool(a["need_rebuild"])
         self.spheres_per_thread = int(a["spheres_per_thread"])
+        self.sort_every = int(a["sort_every"])
         self.gravity = a["gravity"].astype(float).copy()
         per = a["periodic"]
         self.periodic = None if per[0] < 0 else Periodic(int(per[0]), float(per[1]), float(per[2]))

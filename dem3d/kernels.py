@@ -40,10 +40,16 @@ from numba import njit, prange
 
 FASTMATH = False       # see the module docstring
 
+from . import params as _params
+
+# switch values as plain module constants (numba freezes them into the compiled code)
 LINEAR = 0
 HERTZ_MINDLIN = 1
 RATIO = 0
 ABSOLUTE = 1
+COULOMB_ELASTIC = 0
+assert (LINEAR, HERTZ_MINDLIN, RATIO, ABSOLUTE, COULOMB_ELASTIC) == (
+    _params.LINEAR, _params.HERTZ_MINDLIN, _params.RATIO, _params.ABSOLUTE, _params.COULOMB_ELASTIC)
 SQRT_5_6 = math.sqrt(5.0 / 6.0)
 
 
@@ -72,8 +78,9 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy,
     Tangential (incremental, Cundall & Strack 1979): the stored displacement is first
     rotated into the current tangent plane (projected, magnitude kept), then
     u_t += v_t dt, F_t = -k_t u_t - c_t v_t, and if |F_t| > mu Fe the force is scaled back
-    to mu Fe and u_t set consistently (-(F_t + c_t v_t) / k_t), as LIGGGHTS
-    tangential_model_history; the cap uses the elastic normal force (PFC linear model).
+    to the cap and u_t set consistently (-(F_t + c_t v_t) / k_t), as LIGGGHTS
+    tangential_model_history; the cap uses the elastic normal force Fe (PFC linear model)
+    or, with prm.coulomb = COULOMB_TOTAL, |Fn| including the viscous part (LIGGGHTS).
     """
     vn = vrx * nx + vry * ny + vrz * nz
     vtx = vrx - vn * nx
@@ -124,7 +131,8 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy,
     ftx = -kt * ux - ct * vtx
     fty = -kt * uy - ct * vty
     ftz = -kt * uz - ct * vtz
-    fmax = mu * fe if fe > 0.0 else 0.0
+    cap = fe if prm.coulomb == COULOMB_ELASTIC else abs(fn)
+    fmax = mu * cap if cap > 0.0 else 0.0
     ft2 = ftx * ftx + fty * fty + ftz * ftz
     if ft2 > fmax * fmax:
         scale = fmax / math.sqrt(ft2)
@@ -848,6 +856,30 @@ def carry_pair_history(start, nbr, ut, active, old_start, old_nbr, old_ut, old_a
                         for d in range(3):
                             ut[k, d] = -old_ut[m, d]
                         break
+
+
+@njit(parallel=True, cache=True)
+def touching_first(x, r, pax, plen, start, nbr, ut, active, nbr_tmp, ut_tmp, active_tmp):
+    """Within each row, move the pairs that overlap now to the front (stable). The contact
+    test in pass 1 then branches the same way for runs of pairs, which made the pass ~9 %
+    faster here (branch prediction). *_tmp: scratch of the same length as nbr."""
+    for i in prange(start.shape[0] - 1):
+        pos = start[i]
+        for first in (True, False):
+            for k in range(start[i], start[i + 1]):
+                dx, dy, dz = separation(x, i, nbr[k], pax, plen)
+                rs = r[i] + r[nbr[k]]
+                if (dx * dx + dy * dy + dz * dz < rs * rs) == first:
+                    nbr_tmp[pos] = nbr[k]
+                    active_tmp[pos] = active[k]
+                    for d in range(3):
+                        ut_tmp[pos, d] = ut[k, d]
+                    pos += 1
+        for k in range(start[i], start[i + 1]):
+            nbr[k] = nbr_tmp[k]
+            active[k] = active_tmp[k]
+            for d in range(3):
+                ut[k, d] = ut_tmp[k, d]
 
 
 @njit(cache=True)

@@ -22,6 +22,9 @@ HERTZ_MINDLIN = 1   #: law id: Hertz normal + Mindlin (no-slip) tangential stiff
 RATIO = 0           #: damping given as critical-damping ratios zeta_n, zeta_s [-]
 ABSOLUTE = 1        #: damping given as dashpot coefficients c_n, c_s [N s/m]
 
+COULOMB_ELASTIC = 0  #: |F_t| <= mu F_n,elastic (PFC linear model)
+COULOMB_TOTAL = 1    #: |F_t| <= mu |F_n,elastic + F_n,viscous| (LIGGGHTS tangential history)
+
 
 class ContactParams(NamedTuple):
     """One contact law, used for particle-particle and particle-wall contacts.
@@ -38,6 +41,8 @@ class ContactParams(NamedTuple):
     local_damping:  PFC local (non-viscous) damping alpha [-], 0 <= alpha < 1:
                     each force/moment component is reduced by alpha |F| sign(v)
                     (Cundall 1987; PFC3D manual) -- for quasi-static stages only
+    coulomb:        COULOMB_ELASTIC (cap on the elastic normal force, PFC) or
+                    COULOMB_TOTAL (on the total normal force, LIGGGHTS)
     """
 
     law: int
@@ -50,26 +55,31 @@ class ContactParams(NamedTuple):
     damp_s: float
     mu: float
     local_damping: float
+    coulomb: int = COULOMB_ELASTIC
 
 
 def linear(kn: float, ks: float, mu: float, *, zeta_n: float | None = None, zeta_s: float | None = None,
-           c_n: float | None = None, c_s: float | None = None, local_damping: float = 0.0) -> ContactParams:
+           c_n: float | None = None, c_s: float | None = None, local_damping: float = 0.0,
+           coulomb: str = "elastic") -> ContactParams:
     """PFC-style linear contact: F_n = kn delta + c_n v_n, incremental F_t = -ks u_t - c_s v_t,
     |F_t| <= mu kn delta.
 
     Damping is given either as critical-damping ratios (``zeta_n``, ``zeta_s``; a head-on
     collision then has restitution e = exp(-zeta pi / sqrt(1 - zeta^2))) or as absolute
     coefficients (``c_n``, ``c_s`` in N s/m, LIGGGHTS ``absolute_damping on``), not both.
+    ``coulomb="total"`` caps |F_t| by mu times the total normal force as LIGGGHTS does
+    (its benchmark uses this); the default "elastic" is PFC's cap.
     """
     kn = require_number("kn", kn, 0.0, None, unit="N/m")
     ks = require_number("ks", ks, 0.0, None, lo_open=False, unit="N/m")
     mode, dn, ds = _damping(zeta_n, zeta_s, c_n, c_s)
-    return ContactParams(LINEAR, kn, ks, 0.0, 0.0, mode, dn, ds, _mu("mu", mu), _alpha(local_damping))
+    return ContactParams(LINEAR, kn, ks, 0.0, 0.0, mode, dn, ds, _mu("mu", mu), _alpha(local_damping),
+                         _coulomb(coulomb))
 
 
 def hertz_mindlin(youngs: float, poisson: float, mu: float, *, zeta_n: float | None = None,
                   zeta_s: float | None = None, c_n: float | None = None, c_s: float | None = None,
-                  local_damping: float = 0.0) -> ContactParams:
+                  local_damping: float = 0.0, coulomb: str = "elastic") -> ContactParams:
     """Hertz-Mindlin contact between grains of one material (Young's modulus ``youngs`` [Pa],
     Poisson's ratio ``poisson``): E* = E / (2 (1 - nu^2)), G* = E / (4 (2 - nu)(1 + nu))
     (Johnson 1985; LIGGGHTS ``hertz``/``tangential history``). Walls use the same E*, G*.
@@ -80,7 +90,7 @@ def hertz_mindlin(youngs: float, poisson: float, mu: float, *, zeta_n: float | N
     e_star = youngs / (2.0 * (1.0 - poisson ** 2))
     g_star = youngs / (4.0 * (2.0 - poisson) * (1.0 + poisson))
     return ContactParams(HERTZ_MINDLIN, 0.0, 0.0, e_star, g_star, mode, dn, ds, _mu("mu", mu),
-                         _alpha(local_damping))
+                         _alpha(local_damping), _coulomb(coulomb))
 
 
 def restitution_to_damping_ratio(e: float) -> float:
@@ -97,6 +107,12 @@ def _damping(zeta_n, zeta_s, c_n, c_s):
                 require_number("c_s", c_s or 0.0, 0.0, None, lo_open=False, unit="N s/m"))
     return (RATIO, require_number("zeta_n", zeta_n or 0.0, 0.0, 1.0, lo_open=False),
             require_number("zeta_s", zeta_s or 0.0, 0.0, 1.0, lo_open=False))
+
+
+def _coulomb(kind):
+    if kind not in ("elastic", "total"):
+        raise InvalidParameter("coulomb", kind, "'elastic' or 'total'")
+    return COULOMB_ELASTIC if kind == "elastic" else COULOMB_TOTAL
 
 
 def _mu(name, mu):

@@ -23,7 +23,8 @@ class Frame(NamedTuple):
     radii:          (n,) [m]
     velocities:     (n, 3) centre velocities [m/s] at time - dt/2 (leapfrog half step)
     body_id:        (n,) body of each sphere: the sphere's own index for a free sphere, the
-                    index of the clump's first sphere for a clump member
+                    index of the clump's first sphere for a clump member (sphere arrays are
+                    in the specimen's order)
     contact_a:      (m, 3) centre of the first sphere of each touching sphere pair [m]
     contact_b:      (m, 3) centre of the second, periodic-unwrapped (b - a is the short
                     separation vector) [m]
@@ -74,13 +75,22 @@ def contacts(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nd
 
 
 def frame(sim: Simulation) -> Frame:
-    """The current state as a Frame (all arrays copied)."""
+    """The current state as a Frame (all arrays copied). Sphere arrays are in the
+    specimen's order whatever order the engine keeps internally (it re-sorts by cell for
+    memory locality), so sphere k of every frame is the same grain."""
     i, _, d, fn = contacts(sim)
     x = sim.spheres.x
     corners = sim.walls.corners()
-    return Frame(step=int(sim.step_count), time=float(sim.time), positions=x.copy(),
-                 radii=sim.spheres.r.copy(), velocities=sim.spheres.v.copy(),
-                 body_id=sim.spheres.body_id.copy(), contact_a=x[i].copy(), contact_b=x[i] + d,
+    orig = sim.original_index
+
+    def specimen_order(a):
+        out = np.empty_like(a)
+        out[orig] = a
+        return out
+
+    return Frame(step=int(sim.step_count), time=float(sim.time), positions=specimen_order(x),
+                 radii=specimen_order(sim.spheres.r), velocities=specimen_order(sim.spheres.v),
+                 body_id=specimen_order(orig[sim.spheres.body_id]), contact_a=x[i].copy(), contact_b=x[i] + d,
                  contact_force=fn, panel_corners=corners, panel_normal=sim.walls.panels.normal.copy(),
                  panel_force=sim.panel_force.copy(), panel_moment=sim.panel_moment.copy(),
                  panel_area=sim.walls.areas())

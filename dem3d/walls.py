@@ -112,20 +112,30 @@ def segmented_wall(base_centre: Vector, normal: Vector, up: Vector, width: float
     return panels
 
 
-def box(lo: Vector, hi: Vector, mu: float = 0.0, *, top: bool = False, periodic_axis: int = -1) -> list[Panel]:
-    """The inner faces of an axis-aligned box [lo, hi] (normals inward): floor (z = lo),
-    side faces, and the lid if ``top``. Faces normal to ``periodic_axis`` are left out and
-    the others are unbounded along it (nominal extent = the box length)."""
+BOX_FACES = ("floor", "x-", "x+", "y-", "y+", "top")
+
+
+def box(lo: Vector, hi: Vector, mu: float = 0.0, *, top: bool = False, periodic_axis: int = -1,
+        omit: Sequence[str] = ()) -> list[Panel]:
+    """The inner faces of an axis-aligned box [lo, hi] (normals inward), in the order
+    floor (z = lo), x- (x = lo), x+, y-, y+, and the lid ("top") if ``top``. Faces named in
+    ``omit`` are left out (e.g. ("x-",) where a segmented wall takes its place), as are
+    faces normal to ``periodic_axis``; the others are unbounded along that axis (nominal
+    extent = the box length)."""
     lo = np.asarray(lo, float)
     hi = np.asarray(hi, float)
+    for name in omit:
+        if name not in BOX_FACES:
+            raise InvalidParameter("omit", name, ", ".join(BOX_FACES))
     mid = 0.5 * (lo + hi)
     halfw = 0.5 * (hi - lo)
     panels = []
-    faces = [(2, lo[2], +1.0)] + [(ax, v, s) for ax in (0, 1) for v, s in ((lo[ax], 1.0), (hi[ax], -1.0))]
+    faces = [("floor", 2, lo[2], +1.0), ("x-", 0, lo[0], 1.0), ("x+", 0, hi[0], -1.0),
+             ("y-", 1, lo[1], 1.0), ("y+", 1, hi[1], -1.0)]
     if top:
-        faces.append((2, hi[2], -1.0))
-    for ax, value, sign in faces:
-        if ax == periodic_axis:
+        faces.append(("top", 2, hi[2], -1.0))
+    for name, ax, value, sign in faces:
+        if ax == periodic_axis or name in omit:
             continue
         n = np.zeros(3)
         n[ax] = sign

@@ -10,7 +10,7 @@ from dem3d import Periodic, Simulation, Wall, box, linear, rotation, segmented_w
 from dem3d import prep
 
 
-def build(seed=2, spheres_per_thread=4000):
+def build(seed=2, spheres_per_thread=4000, sort_every=50):
     """Spheres and clumps falling in a periodic box onto a floor, against a segmented wall
     that rotates about its base: every code path (pairs, walls, clumps, motion, wrap)."""
     rng = np.random.default_rng(seed)
@@ -22,7 +22,8 @@ def build(seed=2, spheres_per_thread=4000):
                                          unbounded_width=True),
                   rotation((0.0, 0.1, 0.0), (0, 1, 0), -0.5))]
     return Simulation(spec, linear(1e5, 4e4, 0.5, zeta_n=0.3, zeta_s=0.2), dt=3e-5, walls=walls,
-                      periodic=Periodic(1, 0.0, 0.2), spheres_per_thread=spheres_per_thread)
+                      periodic=Periodic(1, 0.0, 0.2), spheres_per_thread=spheres_per_thread,
+                      sort_every=sort_every)
 
 
 def state(sim):
@@ -41,7 +42,7 @@ def test_two_runs_are_bitwise_equal_and_independent_of_thread_count():
     runs = []
     for threads in (1, 1, min(2, numba.config.NUMBA_NUM_THREADS)):
         numba.set_num_threads(threads)
-        sim = build(spheres_per_thread=1)          # really use every thread on this small system
+        sim = build(spheres_per_thread=1, sort_every=5)   # every thread, and re-sorting
         sim.step(1500)
         assert sim.n_rebuilds > 0 and np.count_nonzero(sim.pairs.active) > 5
         runs.append(state(sim))
@@ -52,9 +53,9 @@ def test_two_runs_are_bitwise_equal_and_independent_of_thread_count():
 def test_checkpoint_and_resume_equals_one_run():
     """A run split by a checkpoint (to_arrays -> .npz -> from_arrays, with the wall motion
     re-attached) ends bitwise where the unbroken run ends."""
-    whole = build()
+    whole = build(sort_every=5)        # re-sorts along the way too
     whole.step(1500)
-    first = build()
+    first = build(sort_every=5)
     first.step(700)
     buf = io.BytesIO()
     np.savez(buf, **first.to_arrays())
@@ -70,9 +71,9 @@ def test_sorting_by_cell_changes_only_the_order_of_sums():
     unsorted run's up to round-off of the reordered force sums (compared after mapping
     each sphere back to its specimen index; 150 steps are too few for chaos to amplify
     1e-16 into anything visible at 1e-9 m)."""
-    plain = build()
+    plain = build(sort_every=0)
     plain.step(400)
-    sorted_ = build()
+    sorted_ = build(sort_every=0)
     sorted_.step(250)
     new_to_old = sorted_.sort_by_cell()
     assert not np.array_equal(new_to_old, np.arange(sorted_.n_spheres))     # it did reorder
@@ -85,3 +86,18 @@ def test_sorting_by_cell_changes_only_the_order_of_sums():
     # clumps stay contiguous and whole
     for c, (s, e) in enumerate(sorted_.clumps.members):
         assert np.all(sorted_.spheres.clump[s:e] == c) and np.all(sorted_.spheres.body_id[s:e] == s)
+
+
+def test_frames_keep_the_specimen_order_across_resorting():
+    """Frames list spheres in the specimen's order even when the engine re-sorts: the
+    radii (fixed per grain) and each clump's body id stay where the specimen put them."""
+    from dem3d import frame
+
+    sim = build(sort_every=2)
+    f0 = frame(sim)
+    sim.step(600)
+    assert sim.n_rebuilds >= 4
+    f1 = frame(sim)
+    assert np.array_equal(f0.radii, f1.radii)
+    assert np.array_equal(f0.body_id, f1.body_id)
+    assert not np.array_equal(sim.original_index, np.sort(sim.original_index))   # it did re-sort
