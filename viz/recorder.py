@@ -193,6 +193,8 @@ class Recorder:
         if f is None or len(f) == 0:
             return
         strong = f > f.mean()
+        if not strong.any():
+            return
         a, b, fs = frame.contact_a[strong], frame.contact_b[strong], f[strong]
         scale = self.chain_radius_scale or 0.5 * float(np.mean(frame.radii))
         radii = (scale * fs / fs.max()).astype(np.float32)

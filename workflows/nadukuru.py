@@ -56,9 +56,12 @@ class SpecimenRecipe:
     damping_ratio:        viscous normal damping, fraction of critical (not given in the paper)
     local_damping:        PFC local damping while raining and settling (0.7 is PFC's default)
     deposition_friction:  particle friction while raining (< particle_friction densifies)
-    rain_gravity:         gravity while raining, as a fraction of g; the fill is then loaded
-                          to full g with the particle friction on (a 1D compression that
-                          dominates the stresses locked in at deposition)
+    deposition_gravity:   gravity while the grains fall and pack, as a fraction of g (a
+                          shorter fall; with frictionless deposition the packing does not
+                          depend on it)
+    rain_gravity:         gravity at which the particle friction is switched on, as a
+                          fraction of g; the fill is then loaded to full g with friction (a
+                          1D compression that dominates the stresses locked in at deposition)
     floor_friction:       friction of the floor
     target_porosity:      porosity used to size the grains so the box fills to H
     dt:                   time step [s] (None: 0.2 x the critical step)
@@ -79,6 +82,7 @@ class SpecimenRecipe:
     deposition_friction: float = 0.0
     floor_friction: float = 0.65
     rain_gravity: float = 0.25
+    deposition_gravity: float = 2.0
     target_porosity: float = 0.36
     dt: float | None = None
     settle_ratio: float = 2e-3
@@ -156,7 +160,7 @@ def grain_scale(rec: SpecimenRecipe, wall: WallSetup) -> tuple[float, float]:
     a, b = rec.d_min, rec.d_max
     mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
     v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (_CLUMP_VOLUME_FACTOR - 1.0))
-    solid_per_width = (1.0 - rec.target_porosity) * wall.backfill_length * wall.height
+    solid_per_width = (1.0 - rec.target_porosity) * wall.backfill_length * wall.height * _OVERFILL
     s = (solid_per_width * wall.width / (n_bodies * v_body)) ** (1.0 / 3.0)
     min_width = _MIN_CELLS * b
     if min_width * s <= wall.width:
@@ -166,6 +170,7 @@ def grain_scale(rec: SpecimenRecipe, wall: WallSetup) -> tuple[float, float]:
     return s, min_width * s
 
 
+_OVERFILL = 1.04     # fill 4 % above H, trimmed to H after deposition
 _MIN_CELLS = 3.4     # periodic length >= 3 (2 r_max + skin): 3.4 d_max with skin 0.4 r_min
 
 
@@ -231,35 +236,38 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     d_min, d_max = s * rec.d_min, s * rec.d_max
     L, H = wall.backfill_length, wall.height
     n_bodies = int(round(rec.particles / (1.0 + rec.clump_fraction)))
-    # generate at a solid fraction of 0.15 (random addition jams near 0.38, earlier in a thin box)
-    gen_height = (1.0 - rec.target_porosity) * H / 0.15
+    # generate at a solid fraction of 0.2 (random addition jams near 0.25-0.38)
+    gen_height = (1.0 - rec.target_porosity) * H * _OVERFILL / 0.20
     lo = np.array([0.0, 0.0, 0.0]) + 1e-3
     hi = np.array([L, w, gen_height]) - 1e-3
     spec = dem3d.random_specimen(rng, lo, hi, n_bodies, d_min, d_max, clump_fraction=rec.clump_fraction,
                                  clump_overlap=rec.clump_overlap, density=rec.density)
     dt = _dt(rec, s)
     walls = _box_walls(wall, rec)
-    sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, rec.local_damping), dt=dt, walls=walls,
+    # A. deposition: deposition friction, viscous damping only (local damping would slow
+    #    the fall to 0.3 g), gravity raised to shorten the fall
+    sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, 0.0), dt=dt, walls=walls,
                            periodic=dem3d.Periodic(1, 0.0, w))
-    steps = 0
-    g_rain = G * rec.rain_gravity
-    sim.gravity = np.array([0.0, 0.0, -g_rain])
-    fall_time = math.sqrt(2.0 * gen_height / g_rain)
-    n_fall = int(1.5 * fall_time / dt)
-    steps += _advance(sim, n_fall, progress, "raining")
-    slow = 1.0 / math.sqrt(rec.rain_gravity)   # time scales grow as g falls
-    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(3.0 * slow / dt))
+    g_dep = G * rec.deposition_gravity
+    sim.gravity = np.array([0.0, 0.0, -g_dep])
+    steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt), progress, "raining")
+    sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping))
+    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt))
     steps += res.steps
-    # trim: remove every body with a sphere centre above the wall top, restore friction
+    # B. unload to the lock-in gravity, trim to H, restore the particle friction there
+    g_low = G * rec.rain_gravity
+    sim.gravity = np.array([0.0, 0.0, -g_low])
+    steps += _advance(sim, 2000, None, "")
     sim = _trim(sim, H, walls, rec, dt)
-    sim.gravity = np.array([0.0, 0.0, -g_rain])
-    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(3.0 / dt))
+    sim.gravity = np.array([0.0, 0.0, -g_low])
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
     steps += res.steps
-    if rec.rain_gravity != 1.0:         # load to full gravity in 10 increments
+    # C. load to full gravity with friction on: a 1D compression of the whole fill
+    if rec.rain_gravity != 1.0:
         for k in range(1, 11):
-            sim.gravity = np.array([0.0, 0.0, -(g_rain + (G - g_rain) * k / 10)])
+            sim.gravity = np.array([0.0, 0.0, -(g_low + (G - g_low) * k / 10)])
             steps += _advance(sim, 500, None, "")
-        res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(3.0 / dt))
+        res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
         steps += res.steps
     # measure with local damping off: the wall sees the true static state
     sim.set_params(_contact(rec, rec.particle_friction, 0.0))
