@@ -172,7 +172,7 @@ def _add_recording_options(p):
     p.add_argument("--no-rrd", action="store_true", help="write no recording")
     p.add_argument("--spawn", action="store_true", help="also open the Rerun viewer")
     p.add_argument("--every", type=_count("every"), default=5,
-                   help="log the scene every N-th output frame (5)")
+                   help="log the scene (particles, chains) every N x 500 steps (5)")
 
 
 def _add_compare_nadukuru(sub):
@@ -262,6 +262,46 @@ def _cmd_calibrate_triaxial(args) -> int:
     return 0
 
 
+def _add_validate_nadukuru(sub):
+    cases = _case_group(sub, "validate", "paper-scale validation runs written up in docs/validation/")
+    p = cases.add_parser("nadukuru", help="all four modes, rough and smooth walls, at paper scale (hours)",
+                         description="Triaxial calibration, one settled specimen per wall, the four modes and a "
+                                     "half-speed translation; writes docs/validation/nadukuru.{md,json} and figures.")
+    p.add_argument("--particles", type=_count("particles"), default=30_000, help="spheres (30000)")
+    p.add_argument("--walls", default="rough,smooth", help="comma list of rough, smooth (rough,smooth)")
+    p.add_argument("--modes", default="T,RB,RT,mixed", help="comma list of T, RB, RT, mixed (all)")
+    p.add_argument("--no-triaxial", action="store_true", help="skip the triaxial calibration")
+    p.add_argument("--docs", default="docs/validation", metavar="DIR", help="where the report goes")
+    _add_run_options(p)
+    p.set_defaults(func=_cmd_validate_nadukuru, mode="T", wall="rough")
+
+
+def _cmd_validate_nadukuru(args) -> int:
+    from pathlib import Path
+
+    from workflows.nadukuru import MODES
+    from workflows.nadukuru_validate import validate_nadukuru
+    from workflows.progress import progress
+
+    walls = [w.strip() for w in args.walls.split(",") if w.strip()]
+    modes = [m.strip() for m in args.modes.split(",") if m.strip()]
+    for w in walls:
+        if w not in ("rough", "smooth"):
+            raise InvalidParameter("walls", w, "rough | smooth")
+    for m in modes:
+        if m not in MODES:
+            raise InvalidParameter("modes", m, " | ".join(MODES))
+    case = _nadukuru_case(args)
+    with progress(args.quiet) as bar:
+        rep = validate_nadukuru(case, out_dir=Path(args.docs), root=Path(args.out), walls=walls, modes=modes,
+                                triaxial=not args.no_triaxial, progress=bar,
+                                log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    if args.json:
+        print(json.dumps(rep, indent=2, default=str))
+    print(f"report: {Path(args.docs) / 'nadukuru.md'}", file=sys.stderr)
+    return 0
+
+
 def _console():
     from rich.console import Console
     return Console()
@@ -331,6 +371,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_bench(sub)
     _add_compare_nadukuru(sub)
     _add_calibrate_triaxial(sub)
+    _add_validate_nadukuru(sub)
     return parser
 
 

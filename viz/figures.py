@@ -121,3 +121,36 @@ def plot_segment_stress(profiles: dict, edges_over_H, path, *, theory: dict | No
     ax.legend(fontsize=7)
     ax.set_title(title)
     return _finish(fig, path)
+
+
+def plot_force_chains(frame, path, *, axes=(0, 2), title: str = "", max_lines: int = 40_000) -> Path:
+    """Side view of a frame: grains as light discs, contacts above the mean normal force
+    as lines whose width grows with the force (Nadukuru Fig. 3b, Khosravi Fig. 11).
+    ``axes`` picks the two coordinates drawn (x, z for a wall along y)."""
+    from matplotlib.collections import LineCollection
+
+    i, j = axes
+    pos = np.asarray(frame.positions)
+    fig, ax = plt.subplots(figsize=(8, 6.5))
+    ax.scatter(pos[:, i], pos[:, j], s=2, c="0.8", linewidths=0)
+    f = np.asarray(frame.contact_force)
+    if len(f):
+        strong = np.nonzero(f > f.mean())[0]
+        strong = strong[np.argsort(f[strong])][-max_lines:]
+        a, b = np.asarray(frame.contact_a)[strong], np.asarray(frame.contact_b)[strong]
+        segs = np.stack([a[:, [i, j]], b[:, [i, j]]], axis=1)
+        w = 0.3 + 3.0 * f[strong] / f[strong].max()
+        ax.add_collection(LineCollection(segs, linewidths=w, colors="firebrick", alpha=0.8))
+    corners = getattr(frame, "panel_corners", None)
+    if corners is not None and len(corners):
+        for c in np.asarray(corners):
+            pts = c[:, [i, j]] if c.shape[-1] > 2 else c
+            ax.plot(pts[:, 0], pts[:, 1], color="navy", lw=2)
+    ax.set_aspect("equal")
+    lo, hi = pos[:, [i, j]].min(axis=0), pos[:, [i, j]].max(axis=0)
+    ax.set_xlim(lo[0] - 0.05 * (hi[0] - lo[0]), hi[0] + 0.05 * (hi[0] - lo[0]))
+    ax.set_ylim(lo[1] - 0.05 * (hi[1] - lo[1]), hi[1] + 0.05 * (hi[1] - lo[1]))
+    ax.set_xlabel("x [m]" if i == 0 else "coordinate [m]")
+    ax.set_ylabel("z [m]" if j == 2 else "y [m]")
+    ax.set_title(title or "force chains: contacts above the mean normal force")
+    return _finish(fig, path)

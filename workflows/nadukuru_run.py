@@ -56,7 +56,10 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     centres = 0.5 * (edges[1:] + edges[:-1])
     norm = gamma * H                                   # rho g (1 - n) H
 
+    last = {}
+
     def on_frame(frame, sample):
+        last["frame"] = frame
         recorder.log_frame(frame, wall_disp_over_H=sample.disp_over_H,
                            profile=(1.0 - centres, sample.segment_stress / norm))
 
@@ -66,8 +69,8 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
                               "panel_stress_kPa": sample.segment_stress / 1e3}, sample.disp_over_H)
 
     frame_every = max(1, every) * case.movement.record_every * 10
-    hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame if record or spawn else None,
-                     frame_every=frame_every, progress=progress)
+    hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame, frame_every=frame_every,
+                     progress=progress)
     recorder.close()
     # tables and figures
     seg_cols = [f"segment{k + 1}_sigma_kPa" for k in range(case.wall.segments)]
@@ -89,6 +92,11 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
                                 for t in theories if t["K"] is not None and t["name"] in ("coulomb", "rankine")},
                         title="Fig. 5(a): stress on each segment at Delta/H = "
                               f"{case.movement.disp_over_H:g}")
+    if "frame" in last:
+        from viz.figures import plot_force_chains
+        plot_force_chains(last["frame"], folder.file("fig3b_force_chains.png"),
+                          title=f"Force chains at Delta/H = {hist['disp_over_H'][-1]:.4f} "
+                                f"({MODE_TITLES[case.movement.mode]}, {wall_kind} wall)")
     wall_time = time.perf_counter() - t_start
     result = {
         "case": "nadukuru",
