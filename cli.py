@@ -189,6 +189,8 @@ def _add_compare_nadukuru(sub):
                    help="wall friction 0.35 (rough) or 0 (smooth) (rough)")
     p.add_argument("--particles", type=_count("particles"), default=30_000,
                    help="spheres incl. clump members (30000 = paper scale; fewer scale the grains up)")
+    p.add_argument("--resume", metavar="RUN_DIR",
+                   help="continue an interrupted run from its folder (uses that folder's config.toml)")
     _add_recording_options(p)
     _add_run_options(p)
     p.set_defaults(func=_cmd_compare_nadukuru)
@@ -215,11 +217,16 @@ def _cmd_compare_nadukuru(args) -> int:
     from workflows.progress import progress
     from workflows.report import nadukuru_text
 
+    if args.resume:
+        args.config = str(Path(args.resume) / "config.toml")
+        if not Path(args.config).exists():
+            raise InvalidParameter("--resume", args.resume, "a run folder with a config.toml")
     case = _nadukuru_case(args)
+    wall_kind = "smooth" if case.wall.friction == 0 else "rough"     # what the run really has
     with progress(args.quiet) as bar:
-        result, folder = compare_nadukuru(case, args.wall, root=Path(args.out), rrd=args.rrd,
+        result, folder = compare_nadukuru(case, wall_kind, root=Path(args.out), rrd=args.rrd,
                                           spawn=args.spawn, every=args.every, record=not args.no_rrd,
-                                          progress=bar)
+                                          progress=bar, resume=Path(args.resume) if args.resume else None)
     if args.json:
         print(json.dumps(result, indent=2))
     else:

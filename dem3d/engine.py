@@ -467,7 +467,9 @@ class Simulation:
         """Rebuild a Simulation from ``to_arrays`` output (or a loaded .npz). ``walls`` must
         be the same wall groups (same panel count and order) to re-attach their motions;
         the stored panel poses replace the geometry given in ``walls``."""
-        a = {k: np.asarray(arrays[k]) for k in arrays}
+        # copies: the caller's arrays (e.g. a cached specimen shared by several runs) must
+        # not be advanced by this simulation
+        a = {k: np.array(arrays[k], copy=True) for k in arrays}
         if int(a["version"]) != _STATE_VERSION:
             raise InvalidParameter("version", int(a["version"]), f"{_STATE_VERSION}")
         self = cls.__new__(cls)

@@ -322,6 +322,12 @@ class WallSet:
         """(nw,) uint8: 1 for walls with a motion."""
         return np.array([0 if w.motion.is_fixed else 1 for w in self.walls], np.uint8)
 
+    def reset_pivots(self) -> None:
+        """Pivots back to each wall's motion definition: for starting new motions on a
+        state restored with ``Simulation.from_arrays`` (which restores the stored pivots,
+        right for resuming the same motion)."""
+        self.pivot[...] = np.array([w.motion.pivot for w in self.walls], float).reshape(len(self.walls), 3)
+
     def mark_reference(self) -> None:
         pan = self.panels
         self._ref = (pan.centre.copy(), pan.e1.copy(), pan.e2.copy())

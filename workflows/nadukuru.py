@@ -59,6 +59,9 @@ class SpecimenRecipe:
     deposition_gravity:   gravity while the grains fall and pack, as a fraction of g (a
                           shorter fall; with frictionless deposition the packing does not
                           depend on it)
+    deposition_softening: kn and ks are divided by this while the grains fall and pack
+                          (a sqrt(softening) larger time step; the paper's stiffness is
+                          restored before friction is switched on)
     rain_gravity:         gravity at which the particle friction is switched on, as a
                           fraction of g; the fill is then loaded to full g with friction (a
                           1D compression that dominates the stresses locked in at deposition)
@@ -83,6 +86,7 @@ class SpecimenRecipe:
     floor_friction: float = 0.65
     rain_gravity: float = 0.25
     deposition_gravity: float = 2.0
+    deposition_softening: float = 10.0
     target_porosity: float = 0.36
     dt: float | None = None
     settle_ratio: float = 2e-3
@@ -174,8 +178,10 @@ _OVERFILL = 1.04     # fill 4 % above H, trimmed to H after deposition
 _MIN_CELLS = 3.4     # periodic length >= 3 (2 r_max + skin): 3.4 d_max with skin 0.4 r_min
 
 
-def _contact(rec: SpecimenRecipe, mu: float, local: float) -> dem3d.ContactParams:
-    return dem3d.linear(rec.kn, rec.ks, mu, zeta_n=rec.damping_ratio, zeta_s=0.0, local_damping=local)
+def _contact(rec: SpecimenRecipe, mu: float, local: float, softening: float = 1.0) -> dem3d.ContactParams:
+    """The recipe's linear law; ``softening`` divides both stiffnesses (deposition only)."""
+    return dem3d.linear(rec.kn / softening, rec.ks / softening, mu, zeta_n=rec.damping_ratio, zeta_s=0.0,
+                        local_damping=local)
 
 
 def _box_walls(wall: WallSetup, rec: SpecimenRecipe, motion=dem3d.FIXED) -> list:
@@ -217,13 +223,18 @@ class Specimen:
     settle_ratio: float
     fill_height: float
     width: float                 # periodic width actually used [m]
+    stages: dict = field(default_factory=dict)   # steps and wall time of each stage
+
+
+#: bump when prepare_specimen changes, so cached specimens of the old procedure are not reused
+PREPARATION_VERSION = 3
 
 
 def specimen_key(case: NadukuruCase) -> str:
     """Hash of everything that shapes the settled specimen (not the movement)."""
     blob = json.dumps({"specimen": dataclasses.asdict(case.specimen),
                        "wall": {k: v for k, v in dataclasses.asdict(case.wall).items()},
-                       "seed": case.seed, "version": 1}, sort_keys=True)
+                       "seed": case.seed, "procedure": PREPARATION_VERSION}, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 
@@ -244,24 +255,44 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
                                  clump_overlap=rec.clump_overlap, density=rec.density)
     dt = _dt(rec, s)
     walls = _box_walls(wall, rec)
-    # A. deposition: deposition friction, viscous damping only (local damping would slow
-    #    the fall to 0.3 g), gravity raised to shorten the fall
-    sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, 0.0), dt=dt, walls=walls,
+    # A. deposition: springs softened by ``deposition_softening`` (a larger stable step: the
+    #    frictionless packing does not depend on the stiffness), deposition friction,
+    #    viscous damping only (local damping would slow the fall to 0.3 g), raised gravity
+    import time as _time
+    stages = {}
+    tic = _time.perf_counter()
+
+    def stage(name, n):
+        nonlocal tic
+        stages[name] = {"steps": int(n), "wall_s": round(_time.perf_counter() - tic, 1)}
+        tic = _time.perf_counter()
+
+    soft = rec.deposition_softening
+    dt_soft = dt * math.sqrt(soft)
+    sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, 0.0, soft), dt=dt_soft, walls=walls,
                            periodic=dem3d.Periodic(1, 0.0, w))
     g_dep = G * rec.deposition_gravity
     sim.gravity = np.array([0.0, 0.0, -g_dep])
-    steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt), progress, "raining")
-    sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping))
-    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt))
+    steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")
+    stage("fall", steps)
+    sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping, soft))
+    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft))
     steps += res.steps
-    # B. unload to the lock-in gravity, trim to H, restore the particle friction there
+    stage("pack", res.steps)
+    # B. unload to the lock-in gravity (overlaps shrink), trim to H, then the paper's
+    #    stiffness and friction at that gravity
     g_low = G * rec.rain_gravity
     sim.gravity = np.array([0.0, 0.0, -g_low])
     steps += _advance(sim, 2000, None, "")
-    sim = _trim(sim, H, walls, rec, dt)
+    sim = _trim(sim, H, walls, rec, dt)      # paper stiffness, still the deposition friction
     sim.gravity = np.array([0.0, 0.0, -g_low])
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt))
+    steps += res.steps
+    stage("stiffen", res.steps)
+    sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
     res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
     steps += res.steps
+    stage("friction on", res.steps)
     # C. load to full gravity with friction on: a 1D compression of the whole fill
     if rec.rain_gravity != 1.0:
         for k in range(1, 11):
@@ -269,6 +300,7 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
             steps += _advance(sim, 500, None, "")
         res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
         steps += res.steps
+        stage("load to g", res.steps + 5000)
     # measure with local damping off: the wall sees the true static state
     sim.set_params(_contact(rec, rec.particle_friction, 0.0))
     steps += _advance(sim, 2000, None, "")
@@ -281,7 +313,7 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     return Specimen(state=sim.to_arrays(), porosity=n, K_at_rest=K0, centroid_at_rest=load.height / H,
                     wall_load_kN=load.normal / 1e3, stress_ratio=ratio, n_spheres=sim.n_spheres,
                     n_bodies=int(len(np.unique(f.body_id))), grain_scale=s, dt=dt, steps=steps,
-                    sim_time=sim.time, settle_ratio=res.ratio, fill_height=_fill_height(sim), width=w)
+                    sim_time=sim.time, settle_ratio=res.ratio, fill_height=_fill_height(sim), width=w, stages=stages)
 
 
 def _advance(sim, n_steps: int, progress, label: str, chunk: int = 1000) -> int:
@@ -302,8 +334,9 @@ def _fill_height(sim) -> float:
 
 
 def _trim(sim, H: float, walls, rec: SpecimenRecipe, dt: float):
-    """A new Simulation without the bodies that have any sphere centre above H
-    (contact history restarts; the caller settles again)."""
+    """A new Simulation (paper stiffness, deposition friction, local damping) without the
+    bodies that have any sphere centre above H (contact history restarts; the caller
+    settles again)."""
     sph = sim.spheres
     above = sph.x[:, 2] > H
     body = sph.body_id
@@ -315,7 +348,7 @@ def _trim(sim, H: float, walls, rec: SpecimenRecipe, dt: float):
     new_labels = labels.copy()
     new_labels[labels >= 0] = relabel
     spec = dem3d.Specimen(sph.x[keep].copy(), sph.r[keep].copy(), new_labels, rec.density, sph.v[keep].copy())
-    return dem3d.Simulation(spec, _contact(rec, rec.particle_friction, rec.local_damping), dt=dt, walls=walls,
+    return dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, rec.local_damping), dt=dt, walls=walls,
                             periodic=sim.periodic)
 
 
@@ -412,18 +445,33 @@ class LoadSample:
 
 
 def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, progress=None,
-              resume_state: dict | None = None) -> Iterator[tuple[LoadSample, object | None]]:
+              resume: dict | None = None, checkpoint=None,
+              checkpoint_every_s: float = 300.0) -> Iterator[tuple[LoadSample, object | None]]:
     """Move the wall from the settled specimen to ``disp_over_H``; yields
-    (LoadSample averaged over ``record_every`` steps, Frame or None) pairs."""
+    (LoadSample averaged over ``record_every`` steps, Frame or None) pairs.
+
+    ``checkpoint(state)`` is called every ``checkpoint_every_s`` of wall-clock time with
+    the engine state plus ``movement.t0`` (the time the movement started); passing that
+    dict back as ``resume`` continues the movement exactly (dem3d resumes bitwise).
+    """
+    import time as _time
+    from types import SimpleNamespace
+
     rec, mv = case.specimen, case.movement
     wall = dataclasses.replace(case.wall, width=specimen.width)
     H = wall.height
     motion, _ = wall_motion(mv, H)
-    walls = _box_walls(wall, rec, motion)
-    state = resume_state if resume_state is not None else specimen.state
-    sim = dem3d.Simulation.from_arrays(state, walls=walls)
-    sim.set_params(_contact(rec, rec.particle_friction, 0.0))
-    t0 = sim.time if resume_state is None else float(resume_state["movement.t0"])
+    # motions are schedules from t = 0 while the specimen's clock stands at t0 after
+    # settling: shift them so the ramp starts when the wall starts to move
+    if resume is None:
+        t0 = float(specimen.state["time"])
+        sim = dem3d.Simulation.from_arrays(specimen.state, walls=_box_walls(wall, rec, _shifted(motion, t0)))
+        sim.walls.reset_pivots()              # a new motion, not the stored (fixed) one
+        sim.set_params(_contact(rec, rec.particle_friction, 0.0))
+    else:
+        t0 = float(resume["movement.t0"])
+        sim = dem3d.Simulation.from_arrays({k: v for k, v in resume.items() if k != "movement.t0"},
+                                           walls=_box_walls(wall, rec, _shifted(motion, t0)))
     target = mv.disp_over_H * H
     total_time = mv.ramp / 2.0 + target / mv.speed if target / mv.speed > mv.ramp / 2 else \
         math.sqrt(2.0 * target * mv.ramp / mv.speed)
@@ -431,30 +479,41 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
     ids = sim.walls.panel_ids("wall")
     k = mv.record_every
     done = int(round((sim.time - t0) / sim.dt))
-    task = progress.add_task(f"{MODE_TITLES[mv.mode]}", total=n_total, status="") if progress else None
+    task = progress.add_task(f"{MODE_TITLES[mv.mode]}", total=n_total, completed=done, status="") \
+        if progress else None
     since_frame = 0
+    last_checkpoint = _time.perf_counter()
     while done < n_total:
         m = min(k, n_total - done)
         hist_f, hist_m = sim.step(m, record_panels=True)
         done += m
         since_frame += m
-        f = dem3d.frame(sim)
-        avg = f._replace(panel_force=hist_f.mean(axis=0), panel_moment=hist_m.mean(axis=0))
-        load = wall_load(avg, ids, H)
+        panels = SimpleNamespace(panel_force=hist_f.mean(axis=0), panel_moment=hist_m.mean(axis=0),
+                                 panel_normal=sim.walls.panels.normal, panel_corners=sim.walls.corners(),
+                                 panel_area=sim.walls.areas())
+        load = wall_load(panels, ids, H)
         disp = _ramp_distance(mv.speed, mv.ramp, sim.time - t0 - 0.5 * m * sim.dt)
         sample = LoadSample(disp / H, sim.time, sim.step_count,
                             load_coefficient(load.normal, specimen.porosity, rec, wall),
                             load.height / H, load.normal / 1e3, load.segment_stress)
-        emit = frame_every and since_frame >= frame_every
+        emit = bool(frame_every) and (since_frame >= frame_every or done >= n_total)
         if emit:
             since_frame = 0
         if task is not None:
             progress.update(task, advance=m, status=f"Delta/H {sample.disp_over_H:.4f}  K {sample.K:.3f}")
-        yield sample, (f if emit else None)
+        yield sample, (dem3d.frame(sim) if emit else None)
+        # after the consumer has taken this sample, so a checkpoint holds it too
+        if checkpoint is not None and _time.perf_counter() - last_checkpoint > checkpoint_every_s:
+            state = sim.to_arrays()
+            state["movement.t0"] = np.array(t0)
+            checkpoint(state)
+            last_checkpoint = _time.perf_counter()
 
 
-def simulation_state(sim) -> dict:
-    return sim.to_arrays()
+def _shifted(motion: dem3d.Motion, t0: float) -> dem3d.Motion:
+    """The same motion with its clock starting at t0 (schedules are functions of time)."""
+    return dataclasses.replace(motion, angular_speed=lambda t, f=motion.angular_speed: f(t - t0),
+                               velocity=lambda t, f=motion.velocity: f(t - t0))
 
 
 # ----------------------------------------------------------------------------- reference
@@ -534,11 +593,36 @@ def load_or_prepare(case: NadukuruCase, cache_dir: Path, progress=None) -> tuple
 
 
 def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_frame=None,
-              frame_every: int = 0, progress=None) -> dict:
+              frame_every: int = 0, progress=None, checkpoint_path: Path | None = None,
+              checkpoint_every_s: float = 300.0) -> dict:
     """Move the wall and collect the load history; returns arrays and the active-state
-    figures (K and centroid averaged over the last 10 % of the movement)."""
-    samples = []
-    for sample, frame in move_wall(case, specimen, frame_every=frame_every, progress=progress):
+    figures (K and centroid averaged over the last 10 % of the movement).
+
+    With ``checkpoint_path`` the engine state and the history so far are saved there
+    every ``checkpoint_every_s`` seconds, and an existing checkpoint is resumed from:
+    an interrupted run continues where it stopped instead of starting over."""
+    samples: list[LoadSample] = []
+    resume = None
+    if checkpoint_path is not None and Path(checkpoint_path).exists():
+        with np.load(checkpoint_path, allow_pickle=False) as data:
+            resume = {k: data[k] for k in data.files if not k.startswith("hist.")}
+            h = {k[5:]: data[k] for k in data.files if k.startswith("hist.")}
+        samples = [LoadSample(float(d), float(t), int(st), float(K), float(c), float(nk), seg)
+                   for d, t, st, K, c, nk, seg in zip(h["disp"], h["time"], h["step"], h["K"], h["centroid"],
+                                                      h["normal"], h["seg"])]
+
+    def save(state):
+        hist = {"hist.disp": [s.disp_over_H for s in samples], "hist.time": [s.time for s in samples],
+                "hist.step": [s.step for s in samples], "hist.K": [s.K for s in samples],
+                "hist.centroid": [s.centroid for s in samples], "hist.normal": [s.normal_kN for s in samples],
+                "hist.seg": np.array([s.segment_stress for s in samples])}
+        tmp = Path(checkpoint_path).with_suffix(".tmp.npz")
+        np.savez(tmp, **state, **{k: np.asarray(v) for k, v in hist.items()})
+        tmp.replace(checkpoint_path)          # atomic: an interruption never leaves half a file
+
+    for sample, frame in move_wall(case, specimen, frame_every=frame_every, progress=progress, resume=resume,
+                                   checkpoint=save if checkpoint_path is not None else None,
+                                   checkpoint_every_s=checkpoint_every_s):
         samples.append(sample)
         if on_sample is not None:
             on_sample(sample)

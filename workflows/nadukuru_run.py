@@ -32,13 +32,18 @@ def phi_card(root: Path, case: NadukuruCase) -> tuple[float, str]:
 
 
 def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("runs"), rrd: Path | None = None,
-                     spawn: bool = False, every: int = 5, record: bool = True, progress=None) -> tuple[dict, Path]:
+                     spawn: bool = False, every: int = 5, record: bool = True, progress=None,
+                     resume: Path | None = None) -> tuple[dict, Path]:
+    """Run (or, with ``resume`` = an interrupted run's folder, continue) the comparison."""
     from viz.figures import plot_load_history, plot_segment_stress
     from viz.recorder import Recorder
 
     t_start = time.perf_counter()
-    folder = RunFolder("nadukuru", case.seed, root=root)
-    folder.write_config(case)
+    if resume is not None:
+        folder = RunFolder.existing(resume)
+    else:
+        folder = RunFolder("nadukuru", case.seed, root=root)
+        folder.write_config(case)
     spec, cached = load_or_prepare(case, Path(root) / "nadukuru" / "specimens", progress)
     H, w = case.wall.height, spec.width
     rec = case.specimen
@@ -70,7 +75,7 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
 
     frame_every = max(1, every) * case.movement.record_every * 10
     hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame, frame_every=frame_every,
-                     progress=progress)
+                     progress=progress, checkpoint_path=folder.file("checkpoints/movement.npz"))
     recorder.close()
     # tables and figures
     seg_cols = [f"segment{k + 1}_sigma_kPa" for k in range(case.wall.segments)]
@@ -124,6 +129,7 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
         "run_folder": str(folder.path),
     }
     folder.write_json("result.json", result)
+    folder.file("checkpoints/movement.npz").unlink(missing_ok=True)      # finished: nothing to resume
     folder.write_manifest(particles=spec.n_spheres, dt=spec.dt, contact=result["provenance"]["contact"],
                           wall_time_s=wall_time)
     return result, folder.path
