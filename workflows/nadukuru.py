@@ -496,7 +496,7 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
         sample = LoadSample(disp / H, sim.time, sim.step_count,
                             load_coefficient(load.normal, specimen.porosity, rec, wall),
                             load.height / H, load.normal / 1e3, load.segment_stress)
-        emit = bool(frame_every) and (since_frame >= frame_every or done >= n_total)
+        emit = bool(frame_every) and (since_frame >= frame_every or done >= n_total or done == m)
         if emit:
             since_frame = 0
         if task is not None:

@@ -49,9 +49,10 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     rec = case.specimen
     gamma = rec.density * (1.0 - spec.porosity) * G
     rrd_path = Path(rrd) if rrd is not None else folder.file("recording.rrd")
+    from viz.recorder import nadukuru_blueprint
     recorder = Recorder(rrd_path if record else None, app_id="wallsim nadukuru",
                         recording_id=f"{folder.path.name}-{case.movement.mode}", dim=3, every=1,
-                        spawn=spawn, enabled=record or spawn)
+                        spawn=spawn, enabled=record or spawn, blueprint=nadukuru_blueprint())
     phi, phi_src = phi_card(Path(root), case)
     theories = theory_rows(case.movement.mode, phi, case.wall.friction, gamma, H, phi_src)
     paper = paper_values(case.movement.mode, wall_kind)
@@ -64,6 +65,7 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     last = {}
 
     def on_frame(frame, sample):
+        last.setdefault("first", frame)
         last["frame"] = frame
         recorder.log_frame(frame, wall_disp_over_H=sample.disp_over_H,
                            profile=(1.0 - centres, sample.segment_stress / norm))
@@ -76,6 +78,10 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     frame_every = max(1, every) * case.movement.record_every * 10
     hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame, frame_every=frame_every,
                      progress=progress, checkpoint_path=folder.file("checkpoints/movement.npz"))
+    if "frame" in last:          # displacement field over the whole movement (Fig. 3a)
+        f0, f1 = last["first"], last["frame"]
+        recorder.log_displacement(f0.positions, f1.positions, step=f1.step, time=f1.time,
+                                  disp_over_H=hist["disp_over_H"][-1])
     recorder.close()
     # tables and figures
     seg_cols = [f"segment{k + 1}_sigma_kPa" for k in range(case.wall.segments)]
