@@ -39,7 +39,12 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
         report["triaxial"] = {k: card[k] for k in ("phi_peak_deg", "strain_at_peak", "phi_end_deg", "porosity",
                                                     "particles")} | {"wall_time_s": time.perf_counter() - tt}
         log(f"triaxial: phi peak {card['phi_peak_deg']:.1f} deg")
-    phi = report.get("triaxial", {}).get("phi_peak_deg", 39.0)
+    if "triaxial" in report:
+        phi, phi_src = report["triaxial"]["phi_peak_deg"], "triaxial"
+    else:                       # a card from an earlier `wallsim calibrate triaxial`, else the paper's
+        from .nadukuru_run import phi_card
+        phi, phi_src = phi_card(root, base)
+    report["phi_for_theories"] = {"deg": phi, "source": phi_src}
     for wall_kind in walls:
         case = dataclasses.replace(base, wall=dataclasses.replace(base.wall, friction=rough_or_smooth(wall_kind)))
         tp = time.perf_counter()
@@ -64,7 +69,7 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
                    "disp_over_H_steady": hist["disp_over_H_steady"], "wall_time_s": time.perf_counter() - tm,
                    "particles": spec.n_spheres, "seed": case.seed, "paper": paper,
                    "theory": theory_rows(mode, phi, case.wall.friction, gamma, case.wall.height,
-                                         "triaxial" if triaxial else "paper")}
+                                         phi_src)}
             if paper["K"] is not None:
                 row["K_within_tol"] = abs(row["K"] - paper["K"]) <= TOL_K
                 row["height_within_tol"] = abs(row["resultant_height_over_H"] - paper["resultant_height_over_H"]) <= TOL_H
