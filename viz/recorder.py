@@ -16,6 +16,8 @@ buffer everything in RAM, ../shared/STACK.md 2.1).
 
 from __future__ import annotations
 
+import functools
+import time
 from pathlib import Path
 
 import numpy as np
@@ -71,6 +73,18 @@ def khosravi_blueprint() -> rrb.Blueprint:
                              extra_series=(P.METRIC_PANEL_STRESS,))
 
 
+def _timed(method):
+    """Add the method's wall time to ``self.seconds`` (the cost of recording, reported per run)."""
+    @functools.wraps(method)
+    def wrapper(self, *args, **kwargs):
+        t0 = time.perf_counter()
+        try:
+            return method(self, *args, **kwargs)
+        finally:
+            self.seconds += time.perf_counter() - t0
+    return wrapper
+
+
 class Recorder:
     """One recording per run.
 
@@ -91,6 +105,7 @@ class Recorder:
         self.every = max(int(every), 1)
         self.flush_every = flush_every
         self.chain_radius_scale = chain_radius_scale
+        self.seconds = 0.0            # wall time spent in logging calls
         self._calls = 0
         self._logged = 0
         self._n_radii = -1
@@ -115,12 +130,14 @@ class Recorder:
         self.rec.set_sinks(*sinks, default_blueprint=bp)
 
     # ------------------------------------------------------------------ static content
+    @_timed
     def log_case(self, text: str) -> None:
         """Case description and resolved config, as markdown."""
         if self.rec is None:
             return
         self.rec.log(P.CASE, rr.TextDocument(text, media_type=rr.MediaType.MARKDOWN), static=True)
 
+    @_timed
     def log_theory_profiles(self, profiles, gamma: float, H: float) -> None:
         """Each theory's sigma_h(z) as a static line: x = sigma_h/(gamma H), y = -z/H."""
         if self.rec is None:
@@ -137,6 +154,7 @@ class Recorder:
         if disp_over_H is not None:
             self.rec.set_time(P.TIMELINE_DISP, sequence=int(round(disp_over_H * P.DISP_TIMELINE_SCALE)))
 
+    @_timed
     def log_frame(self, frame, *, wall_disp_over_H: float | None = None, colour_by: str = "displacement",
                   profile: tuple[np.ndarray, np.ndarray] | None = None,
                   metrics: dict[str, float] | None = None) -> bool:
@@ -212,6 +230,7 @@ class Recorder:
         Strips = rr.LineStrips3D if self.dim == 3 else rr.LineStrips2D
         self.rec.log(P.FORCE_CHAINS, Strips(strips, radii=radii, colors=[[200, 30, 30]]))
 
+    @_timed
     def log_displacement(self, x0: np.ndarray, x1: np.ndarray, *, step: int, time: float,
                          max_arrows: int = 3000, disp_over_H: float | None = None) -> None:
         """Displacement field x1 - x0 as arrows (evenly subsampled to ``max_arrows``)."""
@@ -224,6 +243,7 @@ class Recorder:
                                             vectors=(x1 - x0)[::k].astype(np.float32)))
 
     # ------------------------------------------------------------------ series
+    @_timed
     def log_metrics(self, step: int, time: float, metrics: dict[str, float],
                     wall_disp_over_H: float | None = None) -> None:
         """Buffer scalar series (sent with ``send_columns`` on close); cheap per call."""
@@ -255,6 +275,7 @@ class Recorder:
                 self.rec.send_columns(entity, indexes=idx, columns=rr.Scalars.columns(
                     scalars=vals.ravel()).partition(np.full(len(vals), vals.shape[1])))
 
+    @_timed
     def close(self) -> None:
         """Send the buffered time series, flush and close the file."""
         if self.rec is None:

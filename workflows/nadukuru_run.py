@@ -76,6 +76,7 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
                               "panel_stress_kPa": sample.segment_stress / 1e3}, sample.disp_over_H)
 
     frame_every = max(1, every) * case.movement.record_every * 10
+    t_move = time.perf_counter()
     hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame, frame_every=frame_every,
                      progress=progress, checkpoint_path=folder.file("checkpoints/movement.npz"))
     if "frame" in last:          # displacement field over the whole movement (Fig. 3a)
@@ -83,6 +84,7 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
         recorder.log_displacement(f0.positions, f1.positions, step=f1.step, time=f1.time,
                                   disp_over_H=hist["disp_over_H"][-1])
     recorder.close()
+    movement_s = time.perf_counter() - t_move
     # tables and figures
     seg_cols = [f"segment{k + 1}_sigma_kPa" for k in range(case.wall.segments)]
     folder.write_csv("history.csv", ["disp_over_H", "time_s", "step", "K", "resultant_height_over_H"] + seg_cols,
@@ -118,6 +120,9 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
         "seed": case.seed,
         "wall_time_s": wall_time,
         "specimen_cached": cached,
+        "timings": {"movement_s": movement_s, "recording_s": recorder.seconds,
+                    "recording_share_of_movement": recorder.seconds / movement_s,
+                    "rrd_MB": rrd_path.stat().st_size / 1e6 if record and rrd_path.exists() else None},
         "dem": {"K": hist["K_active"], "resultant_height_over_H": hist["centroid_active"],
                 "K_at_rest": spec.K_at_rest, "resultant_height_over_H_at_rest": spec.centroid_at_rest,
                 "porosity": spec.porosity, "at_rest_wall_load_kN": spec.wall_load_kN * 0.5 / spec.width,

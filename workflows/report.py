@@ -119,4 +119,8 @@ def nadukuru_text(res: dict):
     foot = Text("K: eq. 6, normal load / (0.5 rho (1 - n) g H^2 w) with the measured n; theories give their "
                 "normal (horizontal) coefficient; h/H: height of the resultant above the base.\n"
                 f"phi for the theories: {res['phi_deg']:.1f} deg ({res['phi_source']})", style="dim")
+    tm = res.get("timings")
+    if tm and tm.get("rrd_MB") is not None:
+        foot.append(f"\nrecording: {tm['recording_s']:.1f} s of {tm['movement_s']:.0f} s wall movement "
+                    f"({100 * tm['recording_share_of_movement']:.1f} %), {tm['rrd_MB']:.1f} MB", style="dim")
     return Group(t, foot)
