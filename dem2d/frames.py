@@ -109,6 +109,17 @@ _ARB_FIELDS = (pb.ArbiterFields.BODY_A_ID | pb.ArbiterFields.BODY_B_ID | pb.Arbi
                | pb.ArbiterFields.TOTAL_IMPULSE | pb.ArbiterFields.NORMAL | pb.ArbiterFields.POINT_A_1)
 
 
+def raw_arbiters(space: pymunk.Space) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Every cached arbiter: body-a ids, body-b ids, contact counts (0 = separated) and
+    the impulse on body a over the last step (m,2) [N s/m]."""
+    AF = pb.ArbiterFields
+    buf = pb.Buffer()
+    pb.get_space_arbiters(space, AF.BODY_A_ID | AF.BODY_B_ID | AF.CONTACT_COUNT | AF.TOTAL_IMPULSE, buf)
+    ii = np.frombuffer(buf.int_buf(), dtype=np.uintp).reshape(-1, 3)
+    ff = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 2)
+    return ii[:, 0].copy(), ii[:, 1].copy(), ii[:, 2].copy(), ff.copy()
+
+
 def grain_contacts(space: pymunk.Space, grains: Grains) -> Contacts:
     """Every touching grain-grain contact (pairs with a wall are left out)."""
     buf = pb.Buffer()

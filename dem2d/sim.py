@@ -1,20 +1,29 @@
 """``Sim``: one pymunk space with its grains, panel walls, pressure cells and clock.
 
-Pure state and stepping; no files, no printing. ``snapshot()`` returns bytes (a pickle
-of the space and everything that refers into it) that a caller may store; ``restore``
-turns them back into a ``Sim``.
+Pure state and stepping; no files, no printing. ``snapshot()`` returns bytes that a
+caller may store; ``restore`` turns them back into a running ``Sim``.
 
-What a restored ``Sim`` is and is not:
+Why not pymunk's own pickling of the Space (measured here on pymunk 7.3.1):
 
-* pymunk's own unpickling gives a space that stepped 2x slower than the original on a
-  6.5k-disk pile (measured here, persistent over 1000 steps; moving the same bodies
-  into a new space removes the slow-down). ``restore`` therefore moves every body and
-  shape into a fresh space with the solver settings re-applied. The cached contact
-  impulses (warm start) are lost: the first steps rebuild them, during which grains
-  move by about g dt^2 per step (1e-7 m); a short re-settling should follow.
-* The continuation is not bit-for-bit the same as the uninterrupted run (it never is
-  after pickling: ../shared/STACK.md 1.8), but two restores of the same bytes continue
-  identically. Use snapshots to branch runs from one settled specimen.
+* it is O(bodies x contacts): ``_arbiter_to_dict`` rebuilds a dict of every body and
+  shape for every cached arbiter (100 s for a 15k-disk pile; hours at 50k);
+* the unpickled space stepped 2.5x slower than the original (its arbiters live in
+  Python-allocated memory);
+* without the cached contact impulses (warm start) a settled pile is *not* settled in
+  a fresh space: with 10 solver iterations the weight needs tens of steps to reach the
+  floor, and the pile falls and shakes (mean grain speed 6 cm/s after restart, 15k disks).
+
+So a snapshot holds the bodies and shapes (pickled one by one, without the space), the
+``Sim`` around them, and the accumulated normal and tangential impulse of every
+touching pair read through ``pymunk.batch`` (body ids -> indices). ``restore`` adds the
+bodies to a fresh space, sets the space's previous time step (so Chipmunk's warm-start
+factor dt/prev_dt is 1, not 0) and, during the first step only, writes the saved
+impulses into each new arbiter in a ``pre_solve`` callback and marks it as not new, so
+Chipmunk applies them as cached impulses. This uses private fields of the cffi arbiter
+(``contacts[i].jnAcc/jtAcc``, ``state``), checked on pymunk 7.3.1 only; it is exact for
+one-point contacts (disk-disk, disk-wall), and polygon pairs (two points) restart cold.
+The continuation is close to, not bit-for-bit, the uninterrupted run; two restores of
+the same bytes continue identically.
 """
 
 from __future__ import annotations
@@ -119,44 +128,109 @@ class Sim:
 
     # ------------------------------------------------------------------ snapshots
     def snapshot(self) -> bytes:
-        """Pickle of the whole model (probe callbacks are switched off first)."""
+        """Bytes that ``restore`` turns back into this model (module docstring)."""
         if self._probe is not None:
             self._probe.stop()
-        probe, self._probe = self._probe, None
-        drivers, self.drivers = self.drivers, {}
-        hooks, self.hooks = self.hooks, []
-        try:
-            return pickle.dumps(self, protocol=pickle.HIGHEST_PROTOCOL)
-        finally:
-            self._probe = probe
-            self.drivers = drivers
-            self.hooks = hooks
+        space = self.space
+        bodies = list(space.bodies)
+        shapes = list(space.shapes)
+        contacts = _contact_impulses(space, bodies)
+        state = {k: v for k, v in self.__dict__.items() if k not in ("space", "_probe", "drivers", "hooks")}
+        payload = {"format": "wallsim-dem2d-snapshot-1", "sim": state, "bodies": bodies, "shapes": shapes,
+                   "gravity": tuple(space.gravity), "damping": space.damping,
+                   "sleep_time_threshold": space.sleep_time_threshold, "contacts": contacts}
+        return pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def _contact_impulses(space: pymunk.Space, bodies: list) -> dict:
+    """Accumulated impulse of every touching one-point contact, keyed by body index in
+    ``bodies``: arrays a, b (m,), impulse on a (m,2) [N s/m]."""
+    from .frames import raw_arbiters
+
+    ids = np.array([b.id for b in bodies], dtype=np.uintp)
+    order = np.argsort(ids)
+    ids_s = ids[order]
+    aid, bid, count, J = raw_arbiters(space)
+    ka = np.minimum(np.searchsorted(ids_s, aid), len(ids_s) - 1)
+    kb = np.minimum(np.searchsorted(ids_s, bid), len(ids_s) - 1)
+    ok = (count == 1) & (ids_s[ka] == aid) & (ids_s[kb] == bid)
+    return {"a": order[ka[ok]], "b": order[kb[ok]], "impulse": J[ok]}
 
 
 def restore(blob: bytes) -> Sim:
-    """Inverse of ``Sim.snapshot``, in a fresh space (module docstring)."""
-    sim = pickle.loads(blob)
-    if not isinstance(sim, Sim):
+    """Inverse of ``Sim.snapshot``: a fresh space with the saved bodies, shapes and
+    contact impulses (module docstring)."""
+    payload = pickle.loads(blob)
+    if not isinstance(payload, dict) or payload.get("format") != "wallsim-dem2d-snapshot-1":
         raise TypeError("not a dem2d snapshot")
-    old = sim.space
-    new = pymunk.Space(threaded=sim.solver.threads > 1)
-    if sim.solver.threads > 1:
-        new.threads = sim.solver.threads
-    new.gravity = old.gravity
-    new.damping = old.damping
-    new.sleep_time_threshold = old.sleep_time_threshold
-    bodies = list(old.bodies)
-    shapes = list(old.shapes)
-    old.remove(*shapes)
-    old.remove(*bodies)
-    sim.space = new
-    sim.set_solver(sim.solver)
-    if sim.solver.spatial_hash and "d_max" in sim.meta:
-        new.use_spatial_hash(sim.meta["d_max"], max(4 * len(shapes), 1000))
+    sim = Sim.__new__(Sim)
+    sim.__dict__.update(payload["sim"])
+    sim.drivers, sim.hooks, sim._probe = {}, [], None
+    solver = sim.solver
+    space = pymunk.Space(threaded=solver.threads > 1)
+    if solver.threads > 1:
+        space.threads = solver.threads
+    space.gravity = payload["gravity"]
+    space.damping = payload["damping"]
+    space.sleep_time_threshold = payload["sleep_time_threshold"]
+    sim.space = space
+    sim.set_solver(solver)
+    bodies, shapes = payload["bodies"], payload["shapes"]
+    if solver.spatial_hash and "d_max" in sim.meta:
+        space.use_spatial_hash(sim.meta["d_max"], max(4 * len(shapes), 1000))
     objs = []
     for b in bodies:
         objs.append(b)
         objs.extend(b.shapes)
-    new.add(*objs)
+    space.add(*objs)
     sim.grains._ids_sorted = None
+    c = payload["contacts"]
+    if len(c["a"]):
+        _warm_start(space, bodies, c, solver.dt)
     return sim
+
+
+def _warm_start(space: pymunk.Space, bodies: list, c: dict, dt: float) -> None:
+    """Arm a one-step pre_solve that gives every new arbiter its saved impulse."""
+    from pymunk._chipmunk_cffi import ffi, lib
+
+    index = {b: k for k, b in enumerate(bodies)}
+    saved = {}
+    for a, b, J in zip(c["a"].tolist(), c["b"].tolist(), c["impulse"].tolist()):
+        saved[(a, b)] = J
+    normal_state = lib.CP_ARBITER_STATE_NORMAL
+
+    def pre_solve(arbiter: pymunk.Arbiter, space_, data) -> None:
+        arb = arbiter._arbiter
+        if arb.count != 1:
+            return
+        b0, b1 = arbiter.bodies
+        i0, i1 = index.get(b0), index.get(b1)
+        if i0 is None or i1 is None:
+            return
+        # J on body i0 (the saved impulse is on the saved pair's first body)
+        if (i0, i1) in saved:
+            jx, jy = saved[(i0, i1)]
+        elif (i1, i0) in saved:
+            jx, jy = saved[(i1, i0)]
+            jx, jy = -jx, -jy
+        else:
+            return
+        # impulse on the struct's body_a is -rotate(n, (jn, jt))
+        if arb.body_a != b0._body:
+            jx, jy = -jx, -jy
+        nx, ny = arb.n.x, arb.n.y
+        con = arb.contacts[0]
+        con.jnAcc = -(jx * nx + jy * ny)
+        con.jtAcc = -(jx * -ny + jy * nx)
+        arb.state = normal_state
+
+    space.on_collision(None, None, pre_solve=pre_solve)
+    lib.cpSpaceSetCurrentTimeStep(space._space, dt)
+
+    def disarm(space_, key) -> None:
+        space_.on_collision(None, None, pre_solve=pymunk.empty_callback)
+
+    # removed after the first step's collision phase: post-step callbacks run at the end of step()
+    space.add_post_step_callback(disarm, "wallsim-warm-start")
+    del ffi
