@@ -72,16 +72,16 @@ class BiaxialCase:
     particles_scale: float = 1.0
     gs: float = 2.65
     friction: float = 0.5
-    prep_friction: float = 0.1
+    prep_friction: float = 0.25
     confining: float = 4000.0
     target_fraction: float = 0.82
     strain_rate: float = 0.2
     max_strain: float = 0.10
     piston_mass_fraction: float = 0.05
-    compaction_rate: float = 3.0
+    compaction_rate: float = 1.5
     sample_every: int = 50
     seed: int = 1
-    solver: Solver = field(default_factory=lambda: Solver(dt=1e-4, iterations=20))
+    solver: Solver = field(default_factory=lambda: Solver(dt=2e-4, iterations=10))
 
     def __post_init__(self):
         require_number("width", self.width, 0.0, None, unit="m")

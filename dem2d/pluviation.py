@@ -162,7 +162,7 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
     width = x1 - x0
     n_layers = max(1, math.ceil(height / p.layer_thickness - 1e-9))
     margin = 0.0005 * width
-    deposited_area = 0.0
+    deposited_area = float(np.sum(np.pi * sim.grains.circle_radius**2))  # > 0 when resumed
     d50 = grading.d50
     sim.space.damping = p.damping
     try:
@@ -179,6 +179,8 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
             if surf - floor > 4 * p.layer_thickness / 2:
                 frac = min(max(deposited_area / (width * (surf - floor)), 0.5), 0.9)
             goal = min(layer * p.layer_thickness, height)
+            if layer < n_layers and goal <= surf - floor:
+                continue  # resumed from a checkpoint: this layer is already there
             area_needed = (goal - max(surf - floor, 0.0)) * width * frac
             n = max(int(round(area_needed / grading.mean_area())), 0)
             first = len(sim.grains)

@@ -87,7 +87,8 @@ class KhosraviRun:
         """Layered pluviation to case.H; after each settled layer, one pressure reading
         is kept in ``backfill.layer_readings`` (Khosravi Fig. 9)."""
         c, sim = self.case, self.sim
-        layer_readings = []
+        layer_readings = list(sim.meta.get("layer_readings", []))
+        sim.meta["layer_readings"] = layer_readings  # kept in checkpoints taken mid-fill
         last = None
         for s in pluviate(sim, c.grading, c.material, x0=0.0, x1=c.box_width, floor=0.0,
                           height=c.H, settings=c.pluviation):

@@ -77,7 +77,7 @@ class KhosraviCase:
     window: float = 0.01
     rest_time: float = 0.05
     seed: int = 1
-    solver: Solver = field(default_factory=Solver)
+    solver: Solver = field(default_factory=lambda: Solver(dt=2e-4, iterations=10))
     pluviation: Pluviation = field(default_factory=Pluviation)
 
     def __post_init__(self):

@@ -89,18 +89,37 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
     rf = RunFolder("biaxial", plan.case.seed, root=root)
     rf.write_config(plan)
     tests = []
+
+    def card_now(mu_cal):
+        return {"target_phi_deg": plan.target_phi, "calibrated_friction": mu_cal,
+                "source": "wallsim dem2d biaxial test (dem2d/biaxial.py), Khosravi et al. section 2",
+                "tests": [{k: v for k, v in t.items() if k != "curve"} for t in tests],
+                "grading": {"d50_m": plan.case.grading.d50, "cu": plan.case.cu},
+                "run_folder": str(rf.path)}
+
+    def save_card(mu_cal):  # after every test, so other runs can use finished tests
+        if card is not None:
+            Path(card).parent.mkdir(parents=True, exist_ok=True)
+            Path(card).write_text(json.dumps(to_plain(card_now(mu_cal)), indent=2) + "\n")
+
     with progress(quiet) as bar:
         for mu in plan.frictions:
             case = dataclasses.replace(plan.case, friction=float(mu))
             out, _, _ = run_one(case, bar, f"mu={mu:g}")
             tests.append(out)
+            save_card(float("nan"))
         mu_cal = interpolate_friction(tests, plan.target_phi)
+        if not math.isfinite(mu_cal):
+            # phi(mu) does not reach the target (free disks saturate): the pressure series
+            # is run at the friction whose phi is closest to it instead
+            mu_near = min(tests, key=lambda t: abs(t["phi_cs_deg"] - plan.target_phi))["friction"]
+        else:
+            mu_near = mu_cal
         for p in plan.pressures:
-            if not math.isfinite(mu_cal):
-                break
-            case = dataclasses.replace(plan.case, friction=mu_cal, confining=float(p))
-            out, _, _ = run_one(case, bar, f"mu={mu_cal:.3f} p={p / 1e3:g}kPa")
+            case = dataclasses.replace(plan.case, friction=mu_near, confining=float(p))
+            out, _, _ = run_one(case, bar, f"mu={mu_near:.3f} p={p / 1e3:g}kPa")
             tests.append(out)
+            save_card(mu_cal)
     rows = []
     for t in tests:
         c = t["curve"]
@@ -112,19 +131,13 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
                   (t["curve"]["eps_axial"], t["curve"]["sigma_1"], t["curve"]["sigma_3"], t["curve"]["eps_vol"])
                   for t in tests}, rf.file("biaxial.png"),
                  title="Biaxial tests (Khosravi Fig. 4 style)")
-    result = {
-        "target_phi_deg": plan.target_phi,
-        "calibrated_friction": mu_cal,
-        "source": "wallsim dem2d biaxial test (dem2d/biaxial.py), Khosravi et al. section 2",
-        "tests": [{k: v for k, v in t.items() if k != "curve"} for t in tests],
-        "grading": {"d50_m": plan.case.grading.d50, "cu": plan.case.cu},
-        "run_folder": str(rf.path),
-    }
+    result = card_now(mu_cal)
+    result["calibrated_friction_peak"] = interpolate_friction(tests[:len(plan.frictions)], plan.target_phi,
+                                                              key="phi_peak_deg")
     rf.write_json("result.json", result)
     rf.write_manifest(n_grains=[t["n_grains"] for t in tests], dt=plan.case.solver.dt,
                       iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
     if card is not None:
-        Path(card).parent.mkdir(parents=True, exist_ok=True)
         Path(card).write_text(json.dumps(to_plain(result), indent=2) + "\n")
     return result, rf
 

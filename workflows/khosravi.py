@@ -73,9 +73,14 @@ def theories(phi_deg: float, gamma: float, H: float) -> dict:
 
 def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool = False,
                      quiet: bool = False, frames: int = 40, specimen_cache: bool = True,
-                     name: str | None = None, card: Path = DEFAULT_CARD) -> tuple[dict, RunFolder]:
+                     name: str | None = None, card: Path = DEFAULT_CARD,
+                     checkpoint_layers: int = 3) -> tuple[dict, RunFolder]:
     """Pluviate (or reuse the settled specimen), read the wall at rest, translate it to
     Dis/H = case.dis_over_H_max, compare with theory; write the run folder.
+
+    Checkpoints: every ``checkpoint_layers`` layers the partly filled box is written to
+    ``<key>.partial.pkl`` (an interrupted pluviation resumes from it), and the settled
+    specimen to ``<key>.pkl`` (later runs with the same key skip the pluviation).
     Returns (result dict, run folder)."""
     from viz.figures import (plot_khosravi_at_rest, plot_khosravi_profiles,
                              plot_khosravi_vs_displacement)
@@ -94,31 +99,28 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     with progress(quiet) as bar:
         t0 = time.perf_counter()
         reused = specimen_cache and cache.exists()
+        partial = cache.with_suffix(".partial.pkl")
         if reused:
             run = KhosraviRun(case, sim=restore(cache.read_bytes()))
         else:
-            run = KhosraviRun(case)
-            task = bar.add_task("pluviation", total=None, status="")
+            resumed = specimen_cache and partial.exists()
+            run = KhosraviRun(case, sim=restore(partial.read_bytes()) if resumed else None)
+            task = bar.add_task("pluviation" + (" (resumed)" if resumed else ""), total=None, status="")
             for s in run.fill():
                 bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
                            status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, "
                                   f"unbalanced {s.ratio:.3f}")
+                if specimen_cache and s.settled and s.layer < s.n_layers and s.layer % checkpoint_layers == 0:
+                    _atomic_write(partial, run.sim.snapshot())  # mid-fill checkpoint, layer settled
             if specimen_cache:
-                cache.parent.mkdir(parents=True, exist_ok=True)
-                tmp = cache.with_suffix(".tmp")
-                tmp.write_bytes(run.sim.snapshot())
-                tmp.replace(cache)
+                _atomic_write(cache, run.sim.snapshot())
+                partial.unlink(missing_ok=True)
         timings["pluviation_s"] = time.perf_counter() - t0
         bf = run.backfill
         t0 = time.perf_counter()
         rest = run.at_rest()
         z = run.panel_depths()
         timings["at_rest_s"] = time.perf_counter() - t0
-        phi_info = biaxial_phi(case, bar, card)
-        phi = float(phi_info["phi_cs_deg"])
-        th = theories(phi, bf.gamma, bf.H)
-        if recorder is not None:
-            recorder.log_theory_profiles(list(th.values()), bf.gamma, bf.H)
         t0 = time.perf_counter()
         n_total = int(math.ceil(case.dis_over_H_max * bf.H / (case.wall_speed * case.window)))
         every = max(1, n_total // max(frames, 1))
@@ -130,7 +132,15 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
             if recorder is not None and (k + 1) % every == 0:
                 _log(recorder, run, r, z, r.dis / bf.H, gH)
         timings["translation_s"] = time.perf_counter() - t0
+        # phi of the same material, looked up (or measured) after the long part so a
+        # calibration running alongside can finish first
+        t0 = time.perf_counter()
+        phi_info = biaxial_phi(case, bar, card)
+        phi = float(phi_info["phi_cs_deg"])
+        th = theories(phi, bf.gamma, bf.H)
+        timings["biaxial_s"] = time.perf_counter() - t0
     if recorder is not None:
+        recorder.log_theory_profiles(list(th.values()), bf.gamma, bf.H)
         recorder.close()
     result = summarize(run, rest, phi, phi_info, th, reused, cache)
     result["timings_s"] = {**timings, "total": time.perf_counter() - t_start}
@@ -141,6 +151,13 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
                       friction=case.friction, wall_friction=case.material.wall_friction,
                       specimen=str(cache), specimen_reused=reused, **result["timings_s"])
     return result, rf
+
+
+def _atomic_write(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_bytes(data)
+    tmp.replace(path)
 
 
 def _case_text(case: KhosraviCase) -> str:
