@@ -336,9 +336,10 @@ def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialC
     else:
         psi = float("nan")
     band = float("nan")
-    if len(marks) >= 3:
-        (e_a, xa), (e_b, xb) = marks[-3], marks[-1]
-        band = shear_band_angle(xa, xb, cell=5 * case.grading.d50)
+    if len(marks) >= 5:
+        # the post-peak part of the test: from 40 % of the final strain to the end
+        (e_a, xa), (e_b, xb) = marks[len(marks) * 2 // 5], marks[-1]
+        band = shear_band_angle(xa, xb, cell=3 * case.grading.d50)
     return BiaxialResult(phi_peak_deg=float(phi[ipk]), eps_peak=float(eps[ipk]), phi_cs_deg=phi_cs,
                          eps_cs=eps_cs, band_angle_deg=band,
                          phi_from_band_deg=2.0 * (band - 45.0) if math.isfinite(band) else float("nan"),
@@ -378,11 +379,16 @@ def shear_band_angle(x0: np.ndarray, x1: np.ndarray, cell: float) -> float:
     """Angle [deg] between the dominant shear band and the horizontal (the major
     principal plane when sigma_1 is vertical), from 0 to 90.
 
-    A discrete Radon transform of the incremental shear-strain map: for each trial
+    Cells within 1.5 cells of the specimen's edge are left out (wall effects). A
+    discrete Radon transform of the incremental shear-strain map: for each trial
     band direction theta, cells are binned by their distance from a line of that
     direction (bins of one cell); the direction whose best bin collects the largest mean
     strain is the band. Both inclinations (+theta, 180 - theta) are tried."""
     c, g = strain_field(x0, x1, cell)
+    # leave out a band of 1.5 cells along the walls (platen and piston effects)
+    lo, hi = x0.min(0) + 1.5 * cell, x0.max(0) - 1.5 * cell
+    inner = np.all((c >= lo) & (c <= hi), axis=1)
+    c, g = c[inner], g[inner]
     if len(g) < 10:
         return float("nan")
     w = g - np.median(g)

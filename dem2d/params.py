@@ -53,7 +53,7 @@ class Solver:
         require_number("dt", self.dt, 0.0, 0.01, unit="s")
         if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 1000):
             raise InvalidParameter("iterations", self.iterations, "an integer in [1, 1000]")
-        require_number("slop_fraction", self.slop_fraction, 0.0, 1.0, lo_open=False)
+        require_number("slop_fraction", self.slop_fraction, 0.0, None, lo_open=False)
         require_number("overlap_time", self.overlap_time, 0.0, None, unit="s")
         if self.threads not in (1, 2):
             raise InvalidParameter("threads", self.threads, "1 or 2")

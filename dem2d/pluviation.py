@@ -80,7 +80,8 @@ class Pluviation:
 
 class LayerStatus(NamedTuple):
     """Progress of the pluviation: layer (1-based), of n_layers, grains so far, surface
-    height [m], unbalanced-force ratio [-], KE per grain / (m g d50) [-], settled flag."""
+    height [m], unbalanced-force ratio [-], KE per grain / (m g d50) [-], settled flag,
+    and done: the last status of this layer (settled, or its time limit reached)."""
 
     layer: int
     n_layers: int
@@ -89,6 +90,7 @@ class LayerStatus(NamedTuple):
     ratio: float
     ke: float
     settled: bool
+    done: bool = False
 
 
 def cloud(n: int, grading: Grading, rng: np.random.Generator, x0: float, x1: float,
@@ -208,8 +210,9 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
                 settled = elapsed >= p.min_layer_time and ratio < crit and ke < p.settle_ke
                 surf = surface_height(st.position, sim.grains.circle_radius,
                                       np.linalg.norm(st.velocity, axis=1) < 0.05, x0, x1)
-                yield LayerStatus(layer, n_layers, len(sim.grains), surf, ratio, ke, settled)
-                if settled or elapsed >= limit:
+                done = settled or elapsed >= limit
+                yield LayerStatus(layer, n_layers, len(sim.grains), surf, ratio, ke, settled, done)
+                if done:
                     break
     finally:
         sim.space.damping = 1.0

@@ -165,3 +165,29 @@ def plot_series(x, ys: dict, path, *, xlabel: str, ylabel: str, title: str = "",
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return _finish(fig, path)
+
+
+def plot_khosravi_backfilling(layers, path, *, gamma: float, H: float, group: int = 4,
+                              panel_height: float = 0.01, title: str = "") -> Path:
+    """Khosravi et al. Fig. 9 style: lateral pressure on the wall after each layer of the
+    pluviation, sigma_h/(gamma H) against height above the base / H, 4-panel readings.
+    ``layers``: list of (layer, surface [m], (p,) panel sigma [Pa], panel 0 at the bottom)."""
+    fig, ax = plt.subplots(figsize=(5, 6))
+    n = len(layers)
+    for k, (layer, surf, sig) in enumerate(layers):
+        sig = np.asarray(sig, float)
+        starts = np.arange(0, len(sig) - group + 1, group)
+        tops = (starts + group) * panel_height
+        keep = tops <= surf + 1e-9
+        means = np.array([sig[s:s + group].mean() for s in starts[keep]])
+        mids = (starts[keep] + group / 2) * panel_height
+        ax.plot(means / (gamma * H), mids / H, "o-", ms=3, color=plt.cm.viridis(k / max(n - 1, 1)),
+                label=f"layer {layer} (surface {surf * 1e3:.0f} mm)" if k in (0, n - 1) or k % 3 == 0 else None)
+    ax.set_xlim(left=0)
+    ax.set_ylim(0, 1.05)
+    ax.set_xlabel("sigma_h / (gamma H)")
+    ax.set_ylabel("height above the base / H")
+    ax.set_title(title or "During backfilling (Khosravi Fig. 9)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    return _finish(fig, path)

@@ -50,7 +50,8 @@ def write_report(result: dict, rf, out_dir: Path, reference: Path) -> dict:
     figdir = out_dir / "khosravi"
     figdir.mkdir(exist_ok=True)
     figs = {}
-    for name in ("fig10_at_rest.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png"):
+    for name in ("fig09_backfilling.png", "fig10_at_rest.png", "fig12_pressure_vs_displacement.png",
+                 "fig13_profiles.png"):
         src = rf.path / name
         if src.exists():
             shutil.copy(src, figdir / name)
@@ -87,8 +88,9 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         f"* wall time: pluviation {t.get('pluviation_s', float('nan')) / 60:.1f} min"
         + (" (specimen reused from its checkpoint)" if res.get("specimen_reused") else "")
         + f", at rest {t.get('at_rest_s', float('nan')) / 60:.1f} min, translation "
-          f"{t.get('translation_s', float('nan')) / 60:.1f} min, total {t.get('total', float('nan')) / 60:.1f} min "
-          f"on {manifest.get('cpu_count', '?')} shared cores",
+          f"{t.get('translation_s', float('nan')) / 60:.1f} min, biaxial {t.get('biaxial_s', float('nan')) / 60:.1f} min, "
+          f"total {t.get('total', float('nan')) / 60:.1f} min on {manifest.get('cpu_count', '?')} cores shared with other jobs"
+        + (f" (CPU time of the run {t['cpu_total'] / 60:.1f} min)" if "cpu_total" in t else ""),
         "",
         "## Done-when items (issue 6)",
         "",

@@ -1,7 +1,7 @@
 """Shared reduced-size specimens for the dem2d physics tests.
 
 Reduced size = Khosravi et al.'s geometry (box 220 x 400 mm, 40 panels of 10 mm, H = 0.3 m)
-with every grain 4 times coarser (D50 = 4.64 mm, ~3.7k disks), so one pluviation takes
+with every grain 5 times coarser (D50 = 5.8 mm, ~2.4k disks), so one pluviation takes
 well under a minute. The settled specimen is built once per session and handed out as
 snapshot bytes; each test restores its own copy.
 """
@@ -17,7 +17,7 @@ from dem2d.pluviation import Pluviation
 from dem2d.run import KhosraviRun
 from dem2d.scenarios import KhosraviCase
 
-REDUCED = KhosraviCase(particles_scale=4.0, friction=0.5, seed=7,
+REDUCED = KhosraviCase(particles_scale=5.0, friction=0.5, seed=7,
                        solver=Solver(dt=2e-4, iterations=10),
                        pluviation=Pluviation(layer_thickness=0.03))
 
