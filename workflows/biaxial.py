@@ -139,6 +139,8 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
                       iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
     if card is not None:
         Path(card).write_text(json.dumps(to_plain(result), indent=2) + "\n")
+        import shutil
+        shutil.copy(rf.file("biaxial.png"), Path(card).with_suffix(".png"))
     return result, rf
 
 
