@@ -1,5 +1,5 @@
 # The two set-up commands the README promises (each creates .venv on first use):
-#   make demo   the main job: theory vs DEM on the default case
+#   make demo   the main job: theory vs 3D DEM on the default wall (a few minutes)
 #   make test   the whole test suite (what .ci/run calls)
 VENV ?= .venv
 STAMP := $(VENV)/.wallsim-installed
@@ -10,7 +10,7 @@ $(STAMP): pyproject.toml scripts/make_venv.sh
 	@touch $(STAMP)
 
 demo: $(STAMP)
-	$(VENV)/bin/wallsim theory --phi 34 --delta 24.7 --H 3.1 --gamma 16.7
+	$(VENV)/bin/wallsim compare nadukuru --mode T --wall rough --particles 3000
 
 test: $(STAMP)
 	$(VENV)/bin/python -m pytest -q

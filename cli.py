@@ -84,6 +84,65 @@ def _cmd_theory(args) -> int:
     return 0
 
 
+def _add_dsm(sub):
+    p = sub.add_parser("dsm", help="differential slice method (Nadukuru & Michalowski 2012)",
+                       description="Wall load distribution by the differential slice method, against "
+                                   "the paper's Table 3 and Fang & Ishibashi's tests.")
+    p.add_argument("--mode", choices=["T", "RB", "RT"], default="T",
+                   help="T translation, RB rotation about the base, RT rotation about the top (T)")
+    p.add_argument("--phi", type=_number("phi", 0, 90, unit="deg"), default=None,
+                   help="friction angle [deg] (the mode's own: T 34, RB 33.4, RT 40.4)")
+    p.add_argument("--delta", type=_number("delta", -90, 90, unit="deg"), default=24.7, help="wall friction [deg] (24.7)")
+    p.add_argument("--H", type=_number("H", 0, None, unit="m"), default=3.1, help="wall height [m] (3.1)")
+    p.add_argument("--gamma", type=_number("gamma", 0, None, unit="kN/m^3"), default=16.7,
+                   help="unit weight [kN/m^3] (16.7)")
+    p.add_argument("--theta-r", default=None, metavar="DEG|max|local",
+                   help="slip surface: planar at DEG from vertical, 'max' (plane of maximum DSM load), "
+                        "'local' (curved, 45 - phi*/2); default: the mode's own")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the three modes like Fig. 8")
+    p.set_defaults(func=_cmd_dsm)
+
+
+def _cmd_dsm(args) -> int:
+    from analytic.slices import MODES, mode_case, solve
+    from workflows.report import dsm_json, dsm_text
+
+    from analytic.inputs import require_number
+
+    theta = args.theta_r
+    if theta not in (None, "max", "local"):
+        if not _is_float(theta):
+            raise InvalidParameter("theta-r", theta, "(0, 90) deg, 'max' or 'local'")
+        theta = require_number("theta-r", theta, 0, 90, unit="deg")
+    case = mode_case(args.mode, phi_deg=args.phi, delta_deg=args.delta, H=args.H, gamma=args.gamma * 1e3,
+                     theta_r_deg=theta)
+    result = solve(case)
+    preset = MODES[args.mode]
+    if args.json:
+        out = dsm_json(args.mode, result, preset)
+        out["phi_deg"] = case.phi_deg
+        print(json.dumps(out, indent=2))
+    else:
+        _console().print(dsm_text(args.mode, result, preset, case))
+    if args.plot:
+        from viz.figures import plot_dsm_modes
+        results = {m: (result if m == args.mode else solve(mode_case(m, delta_deg=args.delta, H=args.H,
+                                                                        gamma=args.gamma * 1e3)))
+                   for m in MODES}
+        plot_dsm_modes(results, MODES, args.plot)
+        print(f"wrote {args.plot}", file=sys.stderr)
+    return 0
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
 def _case_group(sub, name: str, help: str, description: str = ""):
     """The sub-subparsers of ``wallsim <name>`` (compare / calibrate / validate), created on
     first use and shared by every case that registers under it (other engines add theirs)."""
@@ -97,10 +156,11 @@ def _case_group(sub, name: str, help: str, description: str = ""):
     raise RuntimeError(f"wallsim {name} has no sub-commands")
 
 
-def _add_dem_common(p, *, seed_default: int = 1):
-    p.add_argument("--seed", type=int, default=seed_default, help=f"random seed ({seed_default})")
+def _add_run_options(p, *, seed_default: int = 1):
+    """Options every DEM command shares: seed, overrides, output, recording, progress."""
+    p.add_argument("--seed", type=_count("seed"), default=seed_default, help=f"random seed ({seed_default})")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
-                   help="override a case field, e.g. --set friction=0.6 --set solver.dt=1e-4")
+                   help="override any case field, e.g. --set clump_fraction=0 --set particle_friction=0.5")
     p.add_argument("--config", metavar="FILE.toml", help="case overrides from a TOML file (applied before --set)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -118,7 +178,7 @@ def _add_compare_khosravi(sub):
                    help="multiply every grain diameter (1 = D50 1.16 mm, ~45k disks; 2 = ~11k)")
     k.add_argument("--rrd", action="store_true", help="write recording.rrd (disks, walls, force chains)")
     k.add_argument("--no-cache", action="store_true", help="do not reuse or keep the settled specimen")
-    _add_dem_common(k)
+    _add_run_options(k)
     k.set_defaults(func=_cmd_compare_khosravi)
 
 
@@ -179,7 +239,7 @@ def _add_calibrate(sub):
     b.add_argument("--particles-scale", type=_number("particles-scale", 0, None), default=1.0,
                    help="multiply every grain diameter (1 = D50 1.16 mm, ~12.7k disks)")
     b.add_argument("--card", metavar="FILE.json", help="also write the calibration card here")
-    _add_dem_common(b)
+    _add_run_options(b)
     b.set_defaults(func=_cmd_calibrate_biaxial)
 
 
@@ -223,7 +283,7 @@ def _add_validate_khosravi(sub):
                          description="H = 0.3 m, D50 = 1.16 mm (~45k disks); about half an hour or more.")
     k.add_argument("--out-dir", default="docs/validation", help="where the report goes (docs/validation)")
     k.add_argument("--rrd", action="store_true", help="also keep recording.rrd in the run folder")
-    _add_dem_common(k)
+    _add_run_options(k)
     k.set_defaults(func=_cmd_validate_khosravi)
 
 
@@ -246,9 +306,206 @@ def _cmd_validate_khosravi(args) -> int:
     return 0
 
 
+def _add_recording_options(p):
+    p.add_argument("--rrd", metavar="FILE", help="recording path (default: recording.rrd in the run folder)")
+    p.add_argument("--no-rrd", action="store_true", help="write no recording")
+    p.add_argument("--spawn", action="store_true", help="also open the Rerun viewer")
+    p.add_argument("--every", type=_count("every"), default=5,
+                   help="log the scene (particles, chains) every N x 500 steps (5)")
+
+
+def _add_compare_nadukuru(sub):
+    cases = _case_group(sub, "compare", "run a DEM case and set it beside the theories")
+    p = cases.add_parser("nadukuru", help="Nadukuru & Michalowski's 3.1 m wall: four modes of movement (3D)",
+                         description="Spheres and two-sphere clumps rained behind a 3.1 m wall of 6 segments; "
+                                     "the wall translates or rotates to Delta/H = 0.008. DEM K and resultant "
+                                     "height beside the paper, Fang & Ishibashi, Coulomb, Rankine and the DSM. "
+                                     "Example: wallsim compare nadukuru --mode RT --wall rough --particles 6000")
+    p.add_argument("--mode", choices=["T", "RB", "RT", "mixed"], default="T",
+                   help="T translation, RB rotation about the base, RT about the top, "
+                        "mixed about a point H/2 above the top (T)")
+    p.add_argument("--wall", choices=["rough", "smooth"], default="rough",
+                   help="wall friction 0.35 (rough) or 0 (smooth) (rough)")
+    p.add_argument("--particles", type=_count("particles"), default=30_000,
+                   help="spheres incl. clump members (30000 = paper scale; fewer scale the grains up)")
+    p.add_argument("--resume", metavar="RUN_DIR",
+                   help="continue an interrupted run from its folder (uses that folder's config.toml)")
+    _add_recording_options(p)
+    _add_run_options(p)
+    p.set_defaults(func=_cmd_compare_nadukuru)
+
+
+def _nadukuru_case(args):
+    import dataclasses
+
+    from workflows.config import apply_sets, apply_toml
+    from workflows.nadukuru import Movement, NadukuruCase, SpecimenRecipe, WallSetup, rough_or_smooth
+
+    case = NadukuruCase(specimen=SpecimenRecipe(particles=args.particles),
+                        wall=WallSetup(friction=rough_or_smooth(args.wall)),
+                        movement=Movement(mode=getattr(args, "mode", "T")), seed=args.seed)
+    if args.config:
+        case = apply_toml(case, args.config)
+    return dataclasses.replace(apply_sets(case, args.set))
+
+
+def _cmd_compare_nadukuru(args) -> int:
+    from pathlib import Path
+
+    from workflows.nadukuru_run import compare_nadukuru
+    from workflows.progress import progress
+    from workflows.report import nadukuru_text
+
+    if args.resume:
+        args.config = str(Path(args.resume) / "config.toml")
+        if not Path(args.config).exists():
+            raise InvalidParameter("--resume", args.resume, "a run folder with a config.toml")
+    case = _nadukuru_case(args)
+    wall_kind = "smooth" if case.wall.friction == 0 else "rough"     # what the run really has
+    with progress(args.quiet) as bar:
+        result, folder = compare_nadukuru(case, wall_kind, root=Path(args.out), rrd=args.rrd,
+                                          spawn=args.spawn, every=args.every, record=not args.no_rrd,
+                                          progress=bar, resume=Path(args.resume) if args.resume else None)
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        _console().print(nadukuru_text(result))
+    print(f"run folder: {folder}", file=sys.stderr)
+    return 0
+
+
+def _add_calibrate_triaxial(sub):
+    tests = _case_group(sub, "calibrate", "calibrate DEM micro-parameters with virtual tests")
+    p = tests.add_parser("triaxial", help="numerical triaxial test on the Nadukuru backfill mixture (3D)",
+                         description="Cubical triaxial test (six servo platens, sigma_2 = sigma_3) on the "
+                                     "sphere/clump mixture; peak and critical-state phi, written to a "
+                                     "calibration card that `compare nadukuru` uses for its theories.")
+    p.add_argument("--particles", type=_count("particles"), default=8200, help="spheres (8200, the paper's)")
+    p.add_argument("--confining", type=_number("confining", 0, None, unit="kPa"), default=200.0,
+                   help="confining stress [kPa] (200)")
+    _add_run_options(p)
+    p.set_defaults(func=_cmd_calibrate_triaxial, mode="T", wall="rough")
+
+
+def _cmd_calibrate_triaxial(args) -> int:
+    from pathlib import Path
+
+    from workflows.progress import progress
+    from workflows.triaxial import TriaxialSetup, calibrate_triaxial
+
+    case = _nadukuru_case(args)
+    with progress(args.quiet) as bar:
+        card, path = calibrate_triaxial(case, TriaxialSetup(confining=args.confining * 1e3),
+                                        particles=args.particles, root=Path(args.out), progress=bar)
+    if args.json:
+        print(json.dumps(card, indent=2))
+    else:
+        print(f"triaxial: peak phi {card['phi_peak_deg']:.1f} deg at axial strain {card['strain_at_peak']:.3f}, "
+              f"end (critical-state estimate) {card['phi_end_deg']:.1f} deg; porosity {card['porosity']:.3f}; "
+              f"{card['particles']} spheres, seed {card['seed']}, {card['wall_time_s']:.0f} s "
+              f"(paper: 39 deg)")
+    print(f"calibration card: {path}", file=sys.stderr)
+    return 0
+
+
+def _add_validate_nadukuru(sub):
+    cases = _case_group(sub, "validate", "paper-scale validation runs written up in docs/validation/")
+    p = cases.add_parser("nadukuru", help="all four modes, rough and smooth walls, at paper scale (hours)",
+                         description="Triaxial calibration, one settled specimen per wall, the four modes and a "
+                                     "half-speed translation; writes docs/validation/nadukuru.{md,json} and figures.")
+    p.add_argument("--particles", type=_count("particles"), default=30_000, help="spheres (30000)")
+    p.add_argument("--walls", default="rough,smooth", help="comma list of rough, smooth (rough,smooth)")
+    p.add_argument("--modes", default="T,RB,RT,mixed", help="comma list of T, RB, RT, mixed (all)")
+    p.add_argument("--no-triaxial", action="store_true", help="skip the triaxial calibration")
+    p.add_argument("--docs", default="docs/validation", metavar="DIR", help="where the report goes")
+    _add_run_options(p)
+    p.set_defaults(func=_cmd_validate_nadukuru, mode="T", wall="rough")
+
+
+def _cmd_validate_nadukuru(args) -> int:
+    from pathlib import Path
+
+    from workflows.nadukuru import MODES
+    from workflows.nadukuru_validate import validate_nadukuru
+    from workflows.progress import progress
+
+    walls = [w.strip() for w in args.walls.split(",") if w.strip()]
+    modes = [m.strip() for m in args.modes.split(",") if m.strip()]
+    for w in walls:
+        if w not in ("rough", "smooth"):
+            raise InvalidParameter("walls", w, "rough | smooth")
+    for m in modes:
+        if m not in MODES:
+            raise InvalidParameter("modes", m, " | ".join(MODES))
+    case = _nadukuru_case(args)
+    with progress(args.quiet) as bar:
+        rep = validate_nadukuru(case, out_dir=Path(args.docs), root=Path(args.out), walls=walls, modes=modes,
+                                triaxial=not args.no_triaxial, progress=bar,
+                                log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    if args.json:
+        print(json.dumps(rep, indent=2, default=str))
+    print(f"report: {Path(args.docs) / 'nadukuru.md'}", file=sys.stderr)
+    return 0
+
+
 def _console():
     from rich.console import Console
     return Console()
+
+
+def _add_bench(sub):
+    p = sub.add_parser("bench", help="speed benchmarks", description="Speed benchmarks against reference codes.")
+    targets = p.add_subparsers(dest="target", required=True, parser_class=_Parser)
+    d = targets.add_parser("dem3d", help="dem3d vs LIGGGHTS on the settled-packing problem",
+                           description="Time dem3d and LIGGGHTS on benchmarks/liggghts (same contact law, "
+                                       "walls, periodic y, dt 2e-5) and print particle-steps/s and their ratio.")
+    d.add_argument("--n", type=int, choices=[10_000, 30_000], default=30_000, help="spheres (30000)")
+    d.add_argument("--steps", type=_count("steps"), default=5_000, help="time steps (5000)")
+    d.add_argument("--threads", type=int, choices=[1, 2], default=2, help="numba threads for dem3d (2)")
+    d.add_argument("--no-liggghts", action="store_true", help="time dem3d only")
+    d.add_argument("--scaling", action="store_true",
+                   help="also time 10k, 30k and 100k spheres (the 10k packing tiled) for --steps/10 steps")
+    d.add_argument("--json", action="store_true", help="machine-readable output")
+    d.set_defaults(func=_cmd_bench_dem3d)
+
+
+def _count(name: str):
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if value < 1:
+            raise argparse.ArgumentTypeError(str(InvalidParameter(name, text, ">= 1")))
+        return value
+    parse.__name__ = name
+    return parse
+
+
+def _cmd_bench_dem3d(args) -> int:
+    from workflows.bench import bench_dem3d, scaling
+
+    result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts)
+    rows = scaling(max(1, args.steps // 10), args.threads) if args.scaling else None
+    if args.json:
+        if rows is not None:
+            result["scaling"] = rows
+        print(json.dumps(result, indent=2))
+        return 0
+    ours, theirs = result["wallsim_particle_steps_per_s"], result["liggghts_particle_steps_per_s"]
+    print(f"dem3d benchmark: {result['n']} spheres x {result['steps']} steps, dem3d on {result['threads']} thread(s)")
+    print(f"  wallsim  {ours:10.3e} particle-steps/s  ({result['wallsim_seconds']:.2f} s)")
+    if theirs is not None:
+        print(f"  LIGGGHTS {theirs:10.3e} particle-steps/s  ({result['liggghts_seconds']:.2f} s, 1 process)")
+        print(f"  ratio    {result['ratio']:.2f}")
+        w, lg = result["check"]["wallsim"], result["check"]["liggghts"]
+        print(f"  check: kinetic energy {w['kinetic_energy_J']:.4g} vs {lg['kinetic_energy_J']:.4g} J, "
+              f"rotational {w['rotational_energy_J']:.4g} vs {lg['rotational_energy_J']:.4g} J, "
+              f"contacts {w['contacts']} vs {lg['contacts']}")
+    for row in rows or []:
+        print(f"  N = {row['n']:6d}: {row['ms_per_step']:7.3f} ms/step, {row['ns_per_particle_step']:6.1f} ns per "
+              f"particle-step ({row['steps']} steps)")
+    return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -256,9 +513,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"wallsim {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_theory(sub)
+    _add_dsm(sub)
+    _add_compare_nadukuru(sub)
     _add_compare_khosravi(sub)
+    _add_calibrate_triaxial(sub)
     _add_calibrate(sub)
+    _add_validate_nadukuru(sub)
     _add_validate_khosravi(sub)
+    _add_bench(sub)
     return parser
 
 

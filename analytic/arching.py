@@ -126,6 +126,8 @@ def _flat_element(method: str, soil: Soil, wall: Wall, K_w: float, a: float, *, 
                   status: str, notes: str, extra: dict) -> Profile:
     """Profile of sigma_hw = K_w sigma_v_avg(z) with exponent ``a`` (module docstring)."""
     H, g, q = wall.height, soil.unit_weight, wall.surcharge
+    if abs(a) < 1e-12:
+        a = 0.0  # delta = 0 gives a = 0 exactly; rounding must not make u**a blow up at the heel
 
     def sig_v(z):
         u = np.clip(1.0 - np.asarray(z, dtype=float) / H, 0.0, 1.0)
@@ -136,7 +138,10 @@ def _flat_element(method: str, soil: Soil, wall: Wall, K_w: float, a: float, *, 
                 core = (u**a - u) / (1.0 - a)
         return g * H * core + q * u**a
 
-    z = depth_grid(H, _GRID)
+    # u^a - u falls to 0 within a vanishing distance of the heel when a is small: refine
+    # geometrically there so the tabulated profile integrates to its thrust
+    u = np.unique(np.concatenate([np.linspace(0.0, 1.0, _GRID), np.geomspace(1e-12, 0.05, 120)]))
+    z = H * (1.0 - u[::-1])
     sigma = K_w * sig_v(z)
     tau = sigma * math.tan(wall.delta)
     N = quad(lambda s: K_w * float(sig_v(s)), 0.0, H, epsabs=0, epsrel=1e-11, limit=200)[0]

@@ -151,40 +151,39 @@ def trial_wedge(soil: Soil, wall: Wall, passive: bool = False, kh: float = 0.0,
     """
     H, g = wall.height, soil.unit_weight
     phi, d, om, b = soil.phi, wall.delta, wall.omega, wall.beta
-    top = np.array([-H * math.tan(om), H])
+    top_x, top_y = -H * math.tan(om), H
+    sx, sy = math.cos(b), math.sin(b)
     sign = -1.0 if passive else 1.0
+    px, py = math.cos(om + sign * d), math.sin(om + sign * d)
 
-    def thrust(rho: float) -> float:
-        u = np.array([math.cos(rho), math.sin(rho)])
-        s_dir = np.array([math.cos(b), math.sin(b)])
-        # intersection of heel + t u with top + s s_dir
-        A = np.array([[u[0], -s_dir[0]], [u[1], -s_dir[1]]])
-        t, _ = np.linalg.solve(A, top)
-        S = t * u
-        area = 0.5 * abs(top[0] * S[1] - top[1] * S[0])
-        W = g * area + wall.surcharge * (S[0] - top[0])
-        ext = np.array([-sign * kh * W, -(1.0 - kv) * W])  # inertia toward the wall when active
-        p_dir = np.array([math.cos(om + sign * d), math.sin(om + sign * d)])
-        r_dir = np.array([-math.sin(rho - sign * phi), math.cos(rho - sign * phi)])
-        M = np.column_stack([p_dir, r_dir])
-        P, R = np.linalg.solve(M, -ext)
-        return P
+    def thrust(rho):
+        """P(rho) for an array of slip angles (2x2 systems solved by Cramer's rule)."""
+        rho = np.asarray(rho, dtype=float)
+        ux, uy = np.cos(rho), np.sin(rho)
+        # slip line heel + t u meets the surface top + s (sx, sy)
+        t = (-top_x * sy + sx * top_y) / (-ux * sy + sx * uy)
+        Sx, Sy = t * ux, t * uy
+        area = 0.5 * np.abs(top_x * Sy - top_y * Sx)
+        W = g * area + wall.surcharge * (Sx - top_x)
+        ex, ey = -sign * kh * W, -(1.0 - kv) * W        # inertia toward the wall when active
+        rx, ry = -np.sin(rho - sign * phi), np.cos(rho - sign * phi)
+        return (-ex * ry + ey * rx) / (px * ry - py * rx)
 
     # the slip plane must cut the surface (rho > beta) and stay in front of the face
     lo = (b if passive else max(phi, b)) + 1e-6
     hi = math.pi / 2 + om - 1e-6
-    # coarse scan then bounded refinement (P(rho) is unimodal between the bounds)
-    grid = np.linspace(lo, hi, 721)
-    vals = np.array([thrust(r) for r in grid])
+    grid = np.linspace(lo, hi, 2001)
+    vals = thrust(grid)
     if passive:
         vals = np.where(vals > 0, vals, np.inf)
         k = int(np.argmin(vals))
     else:
         k = int(np.argmax(vals))
     a, c = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-    res = minimize_scalar(lambda r: thrust(r) if passive else -thrust(r), bounds=(a, c),
+    # P(rho) is unimodal between the bounds: refine inside the bracketing cell
+    res = minimize_scalar(lambda r: float(thrust(r)) * (1.0 if passive else -1.0), bounds=(a, c),
                           method="bounded", options={"xatol": 1e-12})
-    P = thrust(res.x)
+    P = float(thrust(res.x))
     return 2 * P / (g * H**2), float(res.x)
 
 

@@ -191,3 +191,108 @@ def plot_khosravi_backfilling(layers, path, *, gamma: float, H: float, group: in
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     return _finish(fig, path)
+
+
+def plot_dsm_modes(results: dict, presets: dict, path) -> Path:
+    """Nadukuru & Michalowski Fig. 8: (a) k_l(d), (b) phi*(d)/phi, (c) wall stress
+    sigma_n / (gamma H) against d/H for each mode; the paper's Table 3 centroids marked."""
+    fig, axes = plt.subplots(1, 3, figsize=(12, 5), sharey=True)
+    u = np.linspace(0, 1, 201)
+    for (code, res), c in zip(results.items(), ("C0", "C1", "C2")):
+        pre = presets[code]
+        p = res.profile
+        axes[0].plot([pre.k_wall(x) for x in u], u, color=c, label=pre.title)
+        axes[1].plot([pre.phi_factor(x) for x in u], u, color=c, label=pre.title)
+        gH = 2 * p.thrust_h / (p.Kh * p.H) if p.Kh else 1.0   # gamma H
+        axes[2].plot(p.sigma_h / gH, p.z / p.H, color=c,
+                     label=f"{pre.title}: K {p.K:.3f}, h/H {p.height_over_H:.3f} "
+                           f"(paper {pre.paper_K:.3f}, {pre.paper_height:.3f})")
+        axes[2].axhline(1 - p.height_over_H, color=c, lw=0.6, ls=":")
+    axes[0].set_xlabel("k_l = sigma_n / sigma_z at the wall")
+    axes[1].set_xlabel("mobilised phi* / phi")
+    axes[2].set_xlabel("sigma_n / (gamma H)")
+    axes[0].set_ylabel("d / H (depth)")
+    for ax, t in zip(axes, ("(a)", "(b)", "(c)")):
+        ax.set_ylim(1, 0)
+        ax.grid(alpha=0.3)
+        ax.set_title(t)
+    axes[2].set_xlim(0, 0.5)
+    axes[2].legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Differential slice method (Nadukuru & Michalowski 2012, Fig. 8); dotted: resultant depth")
+    return _finish(fig, path)
+
+
+def plot_load_history(curves: dict, path, *, paper: dict | None = None, at_rest: float | None = None,
+                      title: str = "", ylabel: str = "load coefficient K (eq. 6)") -> Path:
+    """Nadukuru & Michalowski Fig. 4: K against wall movement Delta/H for each mode.
+    curves: {label: (disp_over_H, K)}; paper: {label: K} drawn as dashed levels."""
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for (label, (x, y)), c in zip(curves.items(), (f"C{i}" for i in range(10))):
+        ax.plot(np.asarray(x), np.asarray(y), color=c, label=f"{label} (DEM)")
+        if paper and label in paper:
+            ax.axhline(paper[label], color=c, ls="--", lw=0.8, label=f"{label} paper {paper[label]:.3f}")
+    if at_rest is not None:
+        ax.axhline(at_rest, color="k", ls=":", lw=0.8, label=f"at rest (paper) {at_rest:.3f}")
+    ax.set_xlabel("wall movement Delta / H")
+    ax.set_ylabel(ylabel)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    ax.set_title(title)
+    return _finish(fig, path)
+
+
+def plot_segment_stress(profiles: dict, edges_over_H, path, *, theory: dict | None = None,
+                        title: str = "", xlabel: str = "sigma_n / (rho g (1 - n) H)") -> Path:
+    """Nadukuru & Michalowski Fig. 5(a): normalised normal stress on each wall segment
+    (steps over the segment heights) against depth, per mode; optional theory lines
+    {label: (z_over_H, sigma_norm)}."""
+    e = np.asarray(edges_over_H)
+    fig, ax = plt.subplots(figsize=(5.5, 6))
+    for (label, s), c in zip(profiles.items(), (f"C{i}" for i in range(10))):
+        s = np.asarray(s)
+        ax.stairs(s, e, orientation="horizontal", color=c, label=label, lw=1.6)
+    for label, (z, s) in (theory or {}).items():
+        ax.plot(s, z, ls="--", lw=0.9, label=label)
+    ax.set_ylim(1, 0)
+    ax.set_xlim(left=0)
+    ax.set_ylabel("depth / H")
+    ax.set_xlabel(xlabel)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title(title)
+    return _finish(fig, path)
+
+
+def plot_force_chains(frame, path, *, axes=(0, 2), title: str = "", max_lines: int = 40_000) -> Path:
+    """Side view of a frame: grains as light discs, contacts above the mean normal force
+    as lines whose width grows with the force (Nadukuru Fig. 3b, Khosravi Fig. 11).
+    ``axes`` picks the two coordinates drawn (x, z for a wall along y)."""
+    from matplotlib.collections import LineCollection
+
+    i, j = axes
+    pos = np.asarray(frame.positions)
+    fig, ax = plt.subplots(figsize=(8, 6.5))
+    ax.scatter(pos[:, i], pos[:, j], s=2, c="0.8", linewidths=0)
+    f = np.asarray(frame.contact_force)
+    if len(f):
+        strong = np.nonzero(f > f.mean())[0]
+        strong = strong[np.argsort(f[strong])][-max_lines:]
+        a, b = np.asarray(frame.contact_a)[strong], np.asarray(frame.contact_b)[strong]
+        segs = np.stack([a[:, [i, j]], b[:, [i, j]]], axis=1)
+        w = 0.3 + 3.0 * f[strong] / f[strong].max()
+        ax.add_collection(LineCollection(segs, linewidths=w, colors="firebrick", alpha=0.8))
+    corners = getattr(frame, "panel_corners", None)
+    if corners is not None and len(corners):
+        for c in np.asarray(corners):
+            pts = c[:, [i, j]] if c.shape[-1] > 2 else c
+            ax.plot(pts[:, 0], pts[:, 1], color="navy", lw=2)
+    ax.set_aspect("equal")
+    lo, hi = pos[:, [i, j]].min(axis=0), pos[:, [i, j]].max(axis=0)
+    ax.set_xlim(lo[0] - 0.05 * (hi[0] - lo[0]), hi[0] + 0.05 * (hi[0] - lo[0]))
+    ax.set_ylim(lo[1] - 0.05 * (hi[1] - lo[1]), hi[1] + 0.05 * (hi[1] - lo[1]))
+    ax.set_xlabel("x [m]" if i == 0 else "coordinate [m]")
+    ax.set_ylabel("z [m]" if j == 2 else "y [m]")
+    ax.set_title(title or "force chains: contacts above the mean normal force")
+    return _finish(fig, path)

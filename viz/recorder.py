@@ -44,21 +44,31 @@ def panel_normal_stress(frame) -> np.ndarray:
     return -np.einsum("pd,pd->p", frame.panel_force, frame.panel_normal) / frame.panel_area
 
 
-def default_blueprint(dim: int) -> rrb.Blueprint:
-    """Scene on the left; wall-pressure profile and K / centroid histories on the right."""
-    scene = (rrb.Spatial3DView(origin=P.WORLD, name="particles and force chains") if dim == 3
-             else rrb.Spatial2DView(origin=P.WORLD, name="particles and force chains"))
-    return rrb.Blueprint(
-        rrb.Horizontal(
-            scene,
-            rrb.Vertical(
-                rrb.Spatial2DView(origin=P.PROFILE, name="sigma_h/(gamma H) vs -z/H"),
-                rrb.TimeSeriesView(origin=P.METRIC_K, name="K"),
-                rrb.TimeSeriesView(origin=P.METRIC_CENTROID, name="resultant height / H"),
-                rrb.TextDocumentView(origin=P.CASE, name="case"),
-            ),
-            column_shares=[3, 2]),
-        collapse_panels=True)
+def default_blueprint(dim: int, *, scene_name: str = "particles and force chains",
+                      extra_series: tuple[str, ...] = ()) -> rrb.Blueprint:
+    """Scene on the left; wall-pressure profile (DEM against every theory), K and the
+    resultant height, and any ``extra_series`` (entity paths) on the right."""
+    scene = (rrb.Spatial3DView(origin=P.WORLD, name=scene_name) if dim == 3
+             else rrb.Spatial2DView(origin=P.WORLD, name=scene_name))
+    right = [rrb.Spatial2DView(origin=P.PROFILE, name="sigma_h/(gamma H) (x) against -depth/H (y)"),
+             rrb.TimeSeriesView(origin=P.METRIC_K, name="K"),
+             rrb.TimeSeriesView(origin=P.METRIC_CENTROID, name="resultant height / H")]
+    right += [rrb.TimeSeriesView(origin=e, name=e.rsplit("/", 1)[-1]) for e in extra_series]
+    right.append(rrb.TextDocumentView(origin=P.CASE, name="case"))
+    return rrb.Blueprint(rrb.Horizontal(scene, rrb.Vertical(*right), column_shares=[3, 2]),
+                         collapse_panels=True)
+
+
+def nadukuru_blueprint() -> rrb.Blueprint:
+    """Nadukuru & Michalowski: the 3D fill and wall, with segment stresses over time."""
+    return default_blueprint(3, scene_name="backfill, wall segments and force chains",
+                             extra_series=(P.METRIC_PANEL_STRESS,))
+
+
+def khosravi_blueprint() -> rrb.Blueprint:
+    """Khosravi et al.: the 2D box with its 40 pressure cells."""
+    return default_blueprint(2, scene_name="disks, pressure cells and force chains",
+                             extra_series=(P.METRIC_PANEL_STRESS,))
 
 
 class Recorder:
@@ -193,6 +203,8 @@ class Recorder:
         if f is None or len(f) == 0:
             return
         strong = f > f.mean()
+        if not strong.any():
+            return
         a, b, fs = frame.contact_a[strong], frame.contact_b[strong], f[strong]
         scale = self.chain_radius_scale or 0.5 * float(np.mean(frame.radii))
         radii = (scale * fs / fs.max()).astype(np.float32)
@@ -212,6 +224,12 @@ class Recorder:
                                             vectors=(x1 - x0)[::k].astype(np.float32)))
 
     # ------------------------------------------------------------------ series
+    def log_metrics(self, step: int, time: float, metrics: dict[str, float],
+                    wall_disp_over_H: float | None = None) -> None:
+        """Buffer scalar series (sent with ``send_columns`` on close); cheap per call."""
+        if self.rec is not None:
+            self._remember(step, time, wall_disp_over_H, metrics)
+
     def _remember(self, step, time, disp, metrics) -> None:
         if not metrics:
             return

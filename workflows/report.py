@@ -57,3 +57,66 @@ def theory_text(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool):
         foot.append("\nreconstruction = the original paper's profile equation could not be read; "
                     "see analytic/arching.py for what is and is not verified.", style="dim")
     return Group(t, sources, foot)
+
+
+def dsm_json(mode_code: str, result, preset) -> dict:
+    p = result.profile
+    return {
+        "mode": mode_code,
+        "K": p.K,
+        "resultant_height_over_H": p.height_over_H,
+        "theta_r_deg": result.theta_r_deg,
+        "surface": p.extra.get("surface", ""),
+        "paper": {"K": preset.paper_K, "resultant_height_over_H": preset.paper_height,
+                  "source": "Nadukuru & Michalowski (2012) Table 3 (DSM)"},
+        "fang_ishibashi": {"K": preset.fang_ishibashi_K, "resultant_height_over_H": preset.fang_ishibashi_height,
+                           "source": "Fang & Ishibashi (1986) as quoted in Nadukuru & Michalowski (2012) Table 3"},
+        "phi_deg": preset.phi_deg if "phi_deg" not in p.extra else p.extra["phi_deg"],
+        "solve_time_ms": result.solve_time_s * 1e3,
+        "status": p.status,
+    }
+
+
+def dsm_text(mode_code: str, result, preset, case):
+    p = result.profile
+    t = Table(title=f"Differential slice method, {preset.title} ({mode_code}): phi = {case.phi_deg:g} deg, "
+                    f"delta = {case.delta_deg:g} deg", title_justify="left")
+    for col in ("", "K", "h/H"):
+        t.add_column(col, justify="left" if not col else "right", no_wrap=True)
+    t.add_row("wallsim DSM", f"{p.K:.4f}", f"{p.height_over_H:.3f}")
+    t.add_row("paper's DSM (Table 3)", f"{preset.paper_K:.3f}", f"{preset.paper_height:.3f}")
+    t.add_row("Fang & Ishibashi (1986)", f"{preset.fang_ishibashi_K:.2f}", f"{preset.fang_ishibashi_height:.2f}")
+    notes = Text(f"k_l and phi*: {preset.equation}\nslip surface: {case.surface.label}\n"
+                 f"solve time {result.solve_time_s * 1e3:.1f} ms; K = 2P/(gamma H^2) with P the resultant "
+                 f"at delta to the wall normal; h/H from the normal stress.", style="dim")
+    if p.status != "verified":
+        notes.append("\nThe paper's curved surface is not given: this curve is wallsim's choice "
+                     "(maximum wall reaction over a family of curved surfaces), so the figures differ "
+                     "from Table 3; see analytic/slices.py.", style="yellow")
+    return Group(t, notes)
+
+
+def nadukuru_text(res: dict):
+    d, p = res["dem"], res["paper"]
+    t = Table(title=f"Nadukuru & Michalowski: mode {res['mode']}, {res['wall']} wall, {res['particles']} spheres, "
+                    f"seed {res['seed']}, {res['wall_time_s']:.0f} s", title_justify="left")
+    for col in ("", "K", "h/H", "note"):
+        t.add_column(col, justify="right" if col in ("K", "h/H") else "left")
+
+    def f(x, fmt):
+        return "" if x is None else format(x, fmt)
+
+    t.add_row("wallsim DEM (active)", f(d["K"], ".3f"), f(d["resultant_height_over_H"], ".3f"),
+              f"porosity {d['porosity']:.3f}; steady by Delta/H {d['disp_over_H_steady']:.4f}")
+    t.add_row("wallsim DEM (at rest)", f(d["K_at_rest"], ".3f"), f(d["resultant_height_over_H_at_rest"], ".3f"),
+              f"wall load {d['at_rest_wall_load_kN']:.1f} kN per 0.5 m (paper ~15.4)")
+    t.add_row("paper's DEM", f(p.get("K"), ".3f"), f(p.get("resultant_height_over_H"), ".3f"), p.get("source", ""))
+    fi = p.get("fang_ishibashi")
+    if fi:
+        t.add_row("Fang & Ishibashi", f(fi["K"], ".2f"), f(fi["resultant_height_over_H"], ".2f"), "physical tests")
+    for row in res["theory"]:
+        t.add_row(row["name"], f(row["K"], ".3f"), f(row["resultant_height_over_H"], ".3f"), row["note"])
+    foot = Text("K: eq. 6, normal load / (0.5 rho (1 - n) g H^2 w) with the measured n; theories give their "
+                "normal (horizontal) coefficient; h/H: height of the resultant above the base.\n"
+                f"phi for the theories: {res['phi_deg']:.1f} deg ({res['phi_source']})", style="dim")
+    return Group(t, foot)

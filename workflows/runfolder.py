@@ -95,6 +95,20 @@ class RunFolder:
         self.seed = seed
         self._t0 = time.perf_counter()
 
+    @classmethod
+    def existing(cls, path: str | Path) -> "RunFolder":
+        """Re-open an existing run folder (to resume an interrupted run)."""
+        from analytic.errors import InvalidParameter
+        path = Path(path)
+        if not (path / "config.toml").exists():
+            raise InvalidParameter("--resume", str(path), "a run folder with a config.toml")
+        self = cls.__new__(cls)
+        self.path = path
+        self.case = path.parent.name
+        self.seed = -1
+        self._t0 = time.perf_counter()
+        return self
+
     def file(self, name: str) -> Path:
         p = self.path / name
         p.parent.mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,615 @@
+"""``Simulation``: the engine object that owns the arrays and advances them.
+
+Pure computation: no files, no printing, no logging. A workflow builds a Simulation from a
+``Specimen``, a ``ContactParams``, walls and a time step, then calls ``step`` (or iterates
+``dem3d.run.run``) and reads ``panel_force`` / ``panel_moment`` or ``Frame`` snapshots.
+``to_arrays`` / ``Simulation.from_arrays`` give a checkpoint of plain numpy arrays from
+which a run resumes bitwise identically.
+
+Neighbour search: cell list with cell size 2 r_max + skin and a half stencil; a half
+Verlet list (pairs within r_i + r_j + skin) scanned into fixed-capacity rows whose overflow
+is checked outside the kernel (grow and scan again), then compacted to CSR; wall
+candidates within r + skin. The lists are rebuilt when any sphere has moved more than
+skin/2, or any panel point more than skin/2, since the last build: then no pair can have
+closed a gap of skin unseen.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple, Sequence
+
+import numba
+import numpy as np
+
+from analytic.errors import InvalidParameter
+
+from . import kernels
+from .clumps import clump_properties, matrix_to_quaternion, principal_frame
+from .errors import BlowUp
+from .params import ContactParams, check_time_step, critical_time_step
+from .state import Clumps, Pairs, Spheres, Specimen, WallPairs
+from .walls import Wall, WallSet
+
+
+class Periodic(NamedTuple):
+    """Periodic boundary along one axis (0, 1, 2 = x, y, z): coordinates in [lo, lo + length)."""
+
+    axis: int
+    lo: float
+    length: float
+
+
+_STATE_VERSION = 1
+
+
+class Simulation:
+    """A soft-sphere / clump DEM system with wall panels.
+
+    Parameters
+    ----------
+    specimen:       the particles (positions, radii, clump labels, density)
+    params:         the contact law (``dem3d.params.linear`` or ``hertz_mindlin``)
+    dt:             time step [s]; refused above ``DT_SAFETY`` x the critical step unless
+                    ``allow_unsafe_dt``
+    walls:          ``Wall`` groups of panels with their motions
+    gravity:        (3,) [m/s^2]
+    periodic:       ``Periodic`` or None
+    skin:           Verlet skin [m] (default 0.4 r_min)
+    sort_by_cell:   reorder bodies by cell once at construction for memory locality;
+                    ``original_index[k]`` is then the specimen index of sphere k
+    spheres_per_thread: ``step`` uses at most one numba thread per this many spheres
+                    (small systems run faster on one thread); results do not depend on
+                    the thread count
+    sort_every:     re-sort bodies by cell (``sort_by_cell``) at every this many
+                    neighbour-list builds, 0 = never; Frames stay in specimen order
+    """
+
+    def __init__(self, specimen: Specimen, params: ContactParams, *, dt: float,
+                 walls: Sequence[Wall] = (), gravity=(0.0, 0.0, -9.81),
+                 periodic: Periodic | None = None, skin: float | None = None,
+                 allow_unsafe_dt: bool = False, sort_by_cell: bool = True,
+                 spheres_per_thread: int = 4000, sort_every: int = 50):
+        pos = np.ascontiguousarray(specimen.positions, float).reshape(-1, 3)
+        n = pos.shape[0]
+        radii = np.ascontiguousarray(specimen.radii, float).reshape(-1)
+        labels = np.asarray(specimen.clump if specimen.clump is not None else -np.ones(n), np.int64).reshape(-1)
+        if radii.shape[0] != n or labels.shape[0] != n:
+            raise InvalidParameter("specimen", f"{n} positions, {radii.shape[0]} radii, {labels.shape[0]} labels",
+                                   "equal lengths")
+        if n == 0:
+            raise InvalidParameter("specimen", 0, ">= 1 sphere")
+        if not np.all(radii > 0) or not np.all(np.isfinite(pos)):
+            raise InvalidParameter("radii", float(radii.min()), "> 0 m with finite positions")
+        density = float(specimen.density)
+        if not density > 0:
+            raise InvalidParameter("density", density, "> 0 kg/m^3")
+        vel = (np.zeros((n, 3)) if specimen.velocities is None
+               else np.ascontiguousarray(specimen.velocities, float).reshape(n, 3))
+        self.params = params
+        self.density = density
+        self.spheres_per_thread = int(spheres_per_thread)
+        self.sort_every = int(sort_every)
+        self.gravity = np.asarray(gravity, float).reshape(3)
+        self.periodic = periodic
+        r_min = float(radii.min())
+        self.skin = 0.4 * r_min if skin is None else float(skin)
+        if not self.skin > 0:
+            raise InvalidParameter("skin", self.skin, "> 0 m")
+        self.dt_critical = critical_time_step(params, density * 4.0 / 3.0 * math.pi * r_min ** 3,
+                                              r_min, density)
+        self.dt = check_time_step(dt, self.dt_critical, allow_unsafe=allow_unsafe_dt)
+        bodies = _body_ranges(labels)
+        if periodic is not None:
+            _check_periodic(periodic, float(radii.max()), self.skin)
+        order = np.arange(len(bodies))
+        if sort_by_cell:
+            order = self._locality_order(pos, radii, bodies)
+        new_to_old = np.concatenate([np.arange(bodies[b][0], bodies[b][1]) for b in order])
+        self.original_index = new_to_old
+        pos, radii, labels, vel = pos[new_to_old], radii[new_to_old], labels[new_to_old], vel[new_to_old]
+        self.spheres, self.clumps = _build_bodies(pos, radii, labels, vel, density)
+        self.walls = WallSet(walls)
+        if periodic is not None:
+            _check_panels_periodic(self.walls, periodic.axis)
+        self.walls.set_velocities(0.0)
+        p = self.walls.n_panels
+        self.panel_force = np.zeros((p, 3))
+        self.panel_moment = np.zeros((p, 3))
+        self.time = 0.0
+        self.step_count = 0
+        self.n_rebuilds = 0
+        self._pair_bufs = [_empty_pairs(n, 0), _empty_pairs(n, 0)]
+        self._wall_bufs = [_empty_wall_pairs(n, 0), _empty_wall_pairs(n, 0)]
+        self._cur = 0
+        self._wcur = 0
+        self._rows = np.empty((n, 16), np.int64)
+        self._rebuild(first=True)
+        self._need_rebuild = False
+
+    # ---------------------------------------------------------------- properties
+    @property
+    def n_spheres(self) -> int:
+        return self.spheres.x.shape[0]
+
+    @property
+    def pairs(self) -> Pairs:
+        return self._pair_bufs[self._cur]
+
+    @property
+    def wall_pairs(self) -> WallPairs:
+        return self._wall_bufs[self._wcur]
+
+    @property
+    def panels(self):
+        return self.walls.panels
+
+    @property
+    def r_min(self) -> float:
+        return float(self.spheres.r.min())
+
+    def sphere_masses(self) -> np.ndarray:
+        """(n,) mass of each sphere's own ball (rho 4/3 pi r^3) [kg], overlap not removed."""
+        return self.density * 4.0 / 3.0 * math.pi * self.spheres.r ** 3
+
+    def body_masses(self) -> np.ndarray:
+        """(n_bodies,) masses [kg] of free spheres and clumps (clumps after the free spheres)."""
+        free = self.spheres.clump < 0
+        m_free = 1.0 / self.spheres.inv_m[free]
+        return np.concatenate([m_free, 1.0 / self.clumps.inv_m])
+
+    # ---------------------------------------------------------------- control
+    def set_params(self, params: ContactParams, *, allow_unsafe_dt: bool = False) -> None:
+        """Swap the contact law between stages (e.g. local damping on for settling). The
+        time step is re-checked against the new stiffness (one-line InvalidParameter)."""
+        r_min = self.r_min
+        crit = critical_time_step(params, self.density * 4.0 / 3.0 * math.pi * r_min ** 3, r_min, self.density)
+        check_time_step(self.dt, crit, allow_unsafe=allow_unsafe_dt)
+        self.params = params
+        self.dt_critical = crit
+
+    def lock(self, spheres=None, *, translation: bool = False, rotation: bool = True) -> None:
+        """Lock the translation and/or rotation of free spheres (indices, default all)
+        and of the clumps they belong to."""
+        sph = self.spheres
+        idx = np.arange(self.n_spheres) if spheres is None else np.asarray(spheres, np.int64)
+        for i in idx:
+            c = sph.clump[i]
+            if c < 0:
+                if translation:
+                    sph.inv_m[i] = 0.0
+                    sph.v[i] = 0.0
+                if rotation:
+                    sph.inv_i[i] = 0.0
+                    sph.w[i] = 0.0
+            else:
+                members = slice(self.clumps.members[c, 0], self.clumps.members[c, 1])
+                if translation:
+                    self.clumps.inv_m[c] = 0.0
+                    self.clumps.v[c] = 0.0
+                    sph.inv_m[members] = 0.0
+                if rotation:
+                    self.clumps.inv_i[c] = 0.0
+                    self.clumps.am[c] = 0.0
+                    self.clumps.w[c] = 0.0
+                    sph.w[members] = 0.0
+
+    def step(self, n_steps: int = 1, *, record_panels: bool = False):
+        """Advance ``n_steps`` time steps.
+
+        With ``record_panels`` returns (force, moment), each (n_steps, p, 3): the load on
+        every panel at every step (force BY the particles ON the panel [N]; moment about
+        the panel centre [N m]); otherwise None (``panel_force``/``panel_moment`` always
+        hold the last step's loads). Raises ``BlowUp`` (one line) on a non-finite state or
+        a sphere faster than half the smallest radius per step.
+        """
+        threads = numba.get_num_threads()
+        numba.set_num_threads(max(1, min(threads, self.n_spheres // max(1, self.spheres_per_thread))))
+        try:
+            return self._step(int(n_steps), record_panels)
+        finally:
+            numba.set_num_threads(threads)
+
+    def _step(self, n_steps: int, record_panels: bool):
+        p = self.walls.n_panels
+        rows = n_steps if record_panels else 0
+        hist_f = np.zeros((rows, p, 3))
+        hist_m = np.zeros((rows, p, 3))
+        gx, gy, gz = (float(c) for c in self.gravity)
+        pax, plen = self._periodic_args()
+        speed_limit2 = (0.5 * self.r_min / self.dt) ** 2
+        moving = self.walls.moving
+        chunk = n_steps if not moving.any() else min(n_steps, 2000)
+        done = 0
+        while done < n_steps:
+            if self._need_rebuild:
+                if self.sort_every > 0 and (self.n_rebuilds + 1) % self.sort_every == 0:
+                    self.sort_by_cell()      # locality decays as bodies move (includes the rebuild)
+                else:
+                    self._rebuild()
+            todo = min(chunk, n_steps - done)
+            om_mid, v_mid, om_end, v_end = self.walls.schedule(self.time, self.dt, todo if moving.any() else 0)
+            if not moving.any():
+                om_mid = om_end = np.zeros((1, len(moving)))
+                v_mid = v_end = np.zeros((1, len(moving), 3))
+            ref = self.walls._ref
+            ran, time, status, count = kernels.advance(
+                self.spheres, self.clumps, self.pairs, self.wall_pairs, self.walls.panels, self.params,
+                self.dt, gx, gy, gz, pax, plen, self.skin, speed_limit2,
+                self.walls.wall_of_panel, moving, self.walls.pivot, self.walls.axis, ref[0], ref[1], ref[2],
+                om_mid, v_mid, om_end, v_end, self.panel_force, self.panel_moment,
+                hist_f[done:] if rows else hist_f, hist_m[done:] if rows else hist_m, todo, self.time)
+            done += ran
+            self.time = time
+            self.step_count += ran
+            self._need_rebuild = status == kernels.STATUS_REBUILD
+            if status == kernels.STATUS_NONFINITE:
+                raise BlowUp(self.step_count, self.time, f"{count} spheres have a non-finite position or velocity")
+            if status == kernels.STATUS_TOO_FAST:
+                vmax = float(np.sqrt((self.spheres.v ** 2).sum(axis=1)).max())
+                raise BlowUp(self.step_count, self.time,
+                             f"a sphere moves at {vmax:.4g} m/s, more than half the smallest radius "
+                             f"per step ({0.5 * self.r_min / self.dt:.4g} m/s)")
+        return (hist_f, hist_m) if record_panels else None
+
+    def evaluate_forces(self) -> tuple[np.ndarray, np.ndarray]:
+        """Contact force and torque on every sphere at the current state, without moving
+        anything: (f (n, 3) [N], t (n, 3) [N m]). Tangential histories do advance by one
+        increment, exactly as the force evaluation of a step would."""
+        if self._need_rebuild:
+            self._rebuild()
+        pax, plen = self._periodic_args()
+        kernels.pair_forces(self.spheres, self.pairs, self.params, self.dt, pax, plen)
+        kernels.gather_and_move(self.spheres, self.pairs, self.wall_pairs, self.walls.panels, self.params,
+                                self.dt, 0.0, 0.0, 0.0, 0.0, 0.0, False)
+        if self.walls.n_panels:
+            kernels.panel_loads(self.wall_pairs, self.walls.panels, self.panel_force, self.panel_moment)
+        return self.spheres.f.copy(), self.spheres.t.copy()
+
+    def contact_energy(self) -> float:
+        """Elastic normal energy stored in every contact at the current positions [J]."""
+        pax, plen = self._periodic_args()
+        if self._need_rebuild:
+            self._rebuild()
+        return float(kernels.contact_energy(self.spheres, self.pairs, self.wall_pairs, self.walls.panels,
+                                            self.params, pax, plen))
+
+    # ---------------------------------------------------------------- neighbour lists
+    def _periodic_args(self) -> tuple[int, float]:
+        if self.periodic is None:
+            return -1, 1.0
+        return int(self.periodic.axis), float(self.periodic.length)
+
+    def _grid(self, x: np.ndarray, r_max: float):
+        """Cell grid covering x: (lo (3,), inv_h (3,), nc (3,)) with cells >= 2 r_max + skin."""
+        h = 2.0 * r_max + self.skin
+        lo = x.min(axis=0)
+        extent = x.max(axis=0) - lo
+        nc = np.maximum(1, np.floor(extent / h)).astype(np.int64)
+        while int(np.prod(nc)) > 8 * x.shape[0] + 64:      # sparse outliers: coarser grid
+            nc = np.maximum(1, nc // 2)
+        if self.periodic is not None:
+            ax = self.periodic.axis
+            lo[ax] = self.periodic.lo
+            extent[ax] = self.periodic.length
+            nc[ax] = int(math.floor(self.periodic.length / h))
+        with np.errstate(divide="ignore"):
+            inv_h = np.where(extent > 0, nc / np.where(extent > 0, extent, 1.0), 0.0)
+        return lo, inv_h, nc
+
+    def _locality_order(self, pos, radii, bodies) -> np.ndarray:
+        centres = np.array([pos[a:b].mean(axis=0) for a, b in bodies])
+        lo, inv_h, nc = self._grid(centres, float(radii.max()))
+        return kernels.body_cell_order(centres, lo, inv_h, nc)
+
+    def _wrap(self) -> None:
+        """Map positions into the periodic cell (whole clumps move together)."""
+        pax = self.periodic.axis
+        lo = self.periodic.lo
+        length = self.periodic.length
+        sph = self.spheres
+        clu = self.clumps
+        free = sph.clump < 0
+        if free.all():
+            kernels.wrap_periodic(sph.x, pax, lo, length)
+            return
+        xs = sph.x[free, pax]
+        sph.x[free, pax] = lo + np.mod(xs - lo, length)
+        if clu.x.shape[0]:
+            old = clu.x[:, pax].copy()
+            clu.x[:, pax] = lo + np.mod(old - lo, length)
+            shift = clu.x[:, pax] - old
+            member = sph.clump >= 0
+            sph.x[member, pax] += shift[sph.clump[member]]
+
+    def sort_by_cell(self) -> np.ndarray:
+        """Reorder the bodies by cell (as at construction) so that neighbours sit close in
+        memory; worth it after large rearrangements such as raining. Sphere indices change:
+        returns ``new_to_old`` (sphere k now was sphere new_to_old[k]), and
+        ``original_index`` keeps mapping to the specimen order. Contact histories are
+        carried over; the result differs from an unsorted run only by the order of
+        floating-point sums."""
+        sph = self.spheres
+        n = self.n_spheres
+        bodies = []
+        i = 0
+        while i < n:
+            c = sph.clump[i]
+            j = i + 1 if c < 0 else int(self.clumps.members[c, 1])
+            bodies.append((i, j))
+            i = j
+        order = self._locality_order(sph.x, sph.r, bodies)
+        new_to_old = np.concatenate([np.arange(*bodies[b]) for b in order]).astype(np.int64)
+        if np.array_equal(new_to_old, np.arange(n)):
+            self._rebuild()
+            return new_to_old
+        clump_order = np.array([sph.clump[bodies[b][0]] for b in order if sph.clump[bodies[b][0]] >= 0], np.int64)
+        new_clump = -np.ones(len(self.clumps.x), np.int64)
+        new_clump[clump_order] = np.arange(len(clump_order))
+        fields = {f: np.ascontiguousarray(getattr(sph, f)[new_to_old]) for f in Spheres._fields}
+        member = fields["clump"] >= 0
+        fields["clump"][member] = new_clump[fields["clump"][member]]
+        members = np.zeros((len(clump_order), 2), np.int64)
+        body_id = np.arange(n, dtype=np.int64)
+        k = 0
+        for b in order:
+            a, e = bodies[b]
+            if sph.clump[a] >= 0:
+                c = new_clump[sph.clump[a]]
+                members[c] = (k, k + e - a)
+                body_id[k:k + e - a] = k
+            k += e - a
+        fields["body_id"] = body_id
+        self.spheres = Spheres(**fields)
+        clu = self.clumps
+        self.clumps = Clumps(**{f: np.ascontiguousarray(getattr(clu, f)[clump_order]) for f in Clumps._fields
+                                if f not in ("members", "offset")},
+                             members=members, offset=np.ascontiguousarray(clu.offset[new_to_old]))
+        self.original_index = self.original_index[new_to_old]
+        self._rebuild(new_to_old=new_to_old)
+        return new_to_old
+
+    def _rebuild(self, first: bool = False, new_to_old: np.ndarray | None = None) -> None:
+        sph = self.spheres
+        n = self.n_spheres
+        if self.periodic is not None:
+            self._wrap()
+        pax, plen = self._periodic_args()
+        plo = self.periodic.lo if self.periodic is not None else 0.0
+        lo, inv_h, nc = self._grid(sph.x, float(sph.r.max()))
+        cell, cell_start, order = kernels.cell_sort(sph.x, lo, inv_h, nc, pax, plo, plen)
+        old = self.pairs
+        new = self._pair_bufs[1 - self._cur]
+        counts = np.empty(n, np.int64)
+        xr = np.empty((n, 4))
+        xr[:, :3] = sph.x[order]
+        xr[:, 3] = sph.r[order]
+        clump_sorted = sph.clump[order]
+        while True:      # fixed-capacity rows; on overflow (checked here) grow and scan again
+            kernels.scan_pairs(sph.x, sph.r, sph.clump, cell, cell_start, order, xr, clump_sorted, nc, pax,
+                               plen, self.skin, kernels._FORWARD, self._rows, counts)
+            widest = int(counts.max()) if n else 0
+            if widest <= self._rows.shape[1]:
+                break
+            self._rows = np.empty((n, widest + 8), np.int64)
+        total = int(counts.sum())
+        if new.nbr.shape[0] < total:          # grow the spare CSR buffer
+            new = _empty_pairs(n, int(1.25 * total) + 64)
+        kernels.compact_rows(self._rows, counts, new.start, new.nbr)
+        identity = np.arange(n, dtype=np.int64) if new_to_old is None else new_to_old
+        kernels.carry_pair_history(new.start, new.nbr, new.ut, new.active, old.start, old.nbr, old.ut,
+                                   old.active, identity)
+        kernels.touching_first(sph.x, sph.r, pax, plen, new.start, new.nbr, new.ut, new.active,
+                               np.empty(total, np.int64), np.empty((total, 3)), np.empty(total, np.uint8))
+        kernels.transpose_pairs(new.start, new.nbr, n, new.tstart, new.tpair, new.tpos)
+        # pass 2 sums every transposed row: rows of open pairs must be zero; rows of
+        # carried contacts are rewritten by the next pass 1 before pass 2 reads them
+        new.pf[:total] = 0.0
+        self._pair_bufs[1 - self._cur] = new
+        self._cur = 1 - self._cur
+
+        pan = self.walls.panels
+        wold = self.wall_pairs
+        wnew = self._wall_bufs[1 - self._wcur]
+        wstart = np.zeros(n + 1, np.int64)
+        if pan.centre.shape[0]:
+            kernels.scan_wall_pairs(sph.x, sph.r, pan, self.skin, wstart, wnew.panel, False)
+        np.cumsum(wstart, out=wstart)
+        wtotal = int(wstart[-1])
+        if wnew.panel.shape[0] < wtotal:
+            wnew = _empty_wall_pairs(n, int(1.25 * wtotal) + 64)
+        wnew.start[:] = wstart
+        if wtotal:
+            kernels.scan_wall_pairs(sph.x, sph.r, pan, self.skin, wnew.start, wnew.panel, True)
+            kernels.carry_wall_history(wnew.start, wnew.panel, wnew.ut, wnew.active, wnew.out, wold.start,
+                                       wold.panel, wold.ut, wold.active, wold.out, identity)
+        self._wall_bufs[1 - self._wcur] = wnew
+        self._wcur = 1 - self._wcur
+        sph.x_ref[:] = sph.x
+        self.walls.mark_reference()
+        if not first:
+            self.n_rebuilds += 1
+
+    # ---------------------------------------------------------------- checkpoint
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """The full state as a dict of numpy arrays (copies): spheres, clumps, neighbour
+        lists with contact history, panels and wall pivots, time, step, parameters.
+        Save it with ``np.savez``; ``from_arrays`` resumes bitwise identically. Wall motions
+        are functions and are not stored: pass the same ``walls`` again."""
+        out: dict[str, np.ndarray] = {"version": np.array(_STATE_VERSION)}
+        used = {"pairs": int(self.pairs.start[-1]), "wall_pairs": int(self.wall_pairs.start[-1])}
+        for prefix, rec in (("spheres", self.spheres), ("clumps", self.clumps), ("pairs", self.pairs),
+                            ("wall_pairs", self.wall_pairs), ("panels", self.walls.panels)):
+            for name, arr in rec._asdict().items():
+                if prefix in used and name not in ("start", "tstart"):
+                    arr = arr[:used[prefix]]          # drop the spare capacity
+                out[f"{prefix}.{name}"] = np.array(arr, copy=True)
+        for name, value in self.params._asdict().items():
+            out[f"params.{name}"] = np.array(value)
+        out["walls.pivot"] = self.walls.pivot.copy()
+        out["walls.ref_centre"], out["walls.ref_e1"], out["walls.ref_e2"] = (a.copy() for a in self.walls._ref)
+        out["panel_force"] = self.panel_force.copy()
+        out["panel_moment"] = self.panel_moment.copy()
+        out["original_index"] = self.original_index.copy()
+        scalars = {"time": self.time, "step": self.step_count, "dt": self.dt, "skin": self.skin,
+                   "density": self.density, "dt_critical": self.dt_critical, "n_rebuilds": self.n_rebuilds,
+                   "need_rebuild": self._need_rebuild, "spheres_per_thread": self.spheres_per_thread,
+                   "sort_every": self.sort_every}
+        for name, value in scalars.items():
+            out[name] = np.array(value)
+        out["gravity"] = self.gravity.copy()
+        out["periodic"] = (np.array([-1.0, 0.0, 1.0]) if self.periodic is None
+                           else np.array([self.periodic.axis, self.periodic.lo, self.periodic.length], float))
+        return out
+
+    @classmethod
+    def from_arrays(cls, arrays, walls: Sequence[Wall] = ()) -> "Simulation":
+        """Rebuild a Simulation from ``to_arrays`` output (or a loaded .npz). ``walls`` must
+        be the same wall groups (same panel count and order) to re-attach their motions;
+        the stored panel poses replace the geometry given in ``walls``."""
+        # copies: the caller's arrays (e.g. a cached specimen shared by several runs) must
+        # not be advanced by this simulation
+        a = {k: np.array(arrays[k], copy=True) for k in arrays}
+        if int(a["version"]) != _STATE_VERSION:
+            raise InvalidParameter("version", int(a["version"]), f"{_STATE_VERSION}")
+        self = cls.__new__(cls)
+        self.params = ContactParams(**{f: a[f"params.{f}"].item() for f in ContactParams._fields})
+        self.spheres = Spheres(**{f: np.ascontiguousarray(a[f"spheres.{f}"]) for f in Spheres._fields})
+        self.clumps = Clumps(**{f: np.ascontiguousarray(a[f"clumps.{f}"]) for f in Clumps._fields})
+        n = self.spheres.x.shape[0]
+        self._pair_bufs = [Pairs(**{f: np.ascontiguousarray(a[f"pairs.{f}"]) for f in Pairs._fields}),
+                           _empty_pairs(n, 0)]
+        self._wall_bufs = [WallPairs(**{f: np.ascontiguousarray(a[f"wall_pairs.{f}"]) for f in WallPairs._fields}),
+                           _empty_wall_pairs(n, 0)]
+        self._cur = 0
+        self._wcur = 0
+        self._rows = np.empty((n, 16), np.int64)
+        self.walls = WallSet(walls)
+        if self.walls.n_panels != a["panels.centre"].shape[0]:
+            raise InvalidParameter("walls", f"{self.walls.n_panels} panels",
+                                   f"the {a['panels.centre'].shape[0]} panels of the checkpoint")
+        for f in self.walls.panels._fields:
+            getattr(self.walls.panels, f)[...] = a[f"panels.{f}"]
+        self.walls.pivot[...] = a["walls.pivot"]
+        self.walls._ref = (a["walls.ref_centre"].copy(), a["walls.ref_e1"].copy(), a["walls.ref_e2"].copy())
+        self.panel_force = a["panel_force"].copy()
+        self.panel_moment = a["panel_moment"].copy()
+        self.original_index = a["original_index"].copy()
+        self.time = float(a["time"])
+        self.step_count = int(a["step"])
+        self.dt = float(a["dt"])
+        self.skin = float(a["skin"])
+        self.density = float(a["density"])
+        self.dt_critical = float(a["dt_critical"])
+        self.n_rebuilds = int(a["n_rebuilds"])
+        self._need_rebuild = bool(a["need_rebuild"])
+        self.spheres_per_thread = int(a["spheres_per_thread"])
+        self.sort_every = int(a["sort_every"])
+        self.gravity = a["gravity"].astype(float).copy()
+        per = a["periodic"]
+        self.periodic = None if per[0] < 0 else Periodic(int(per[0]), float(per[1]), float(per[2]))
+        return self
+
+
+# --------------------------------------------------------------------------------------
+# construction helpers
+# --------------------------------------------------------------------------------------
+
+def _body_ranges(labels: np.ndarray) -> list[tuple[int, int]]:
+    """[start, end) sphere ranges of bodies: each free sphere alone, each clump's run."""
+    n = labels.shape[0]
+    ranges = []
+    i = 0
+    seen = set()
+    while i < n:
+        lab = labels[i]
+        if lab < 0:
+            ranges.append((i, i + 1))
+            i += 1
+            continue
+        if lab in seen:
+            raise InvalidParameter("clump", int(lab), "contiguous spheres per clump label")
+        seen.add(lab)
+        j = i
+        while j < n and labels[j] == lab:
+            j += 1
+        ranges.append((i, j))
+        i = j
+    return ranges
+
+
+def _check_periodic(periodic: Periodic, r_max: float, skin: float) -> None:
+    if periodic.axis not in (0, 1, 2):
+        raise InvalidParameter("periodic.axis", periodic.axis, "0, 1 or 2")
+    need = 3.0 * (2.0 * r_max + skin)
+    if not periodic.length >= need:
+        raise InvalidParameter("periodic.length", periodic.length, f">= {need:.4g} m",
+                               "three cells of 2 r_max + skin")
+
+
+def _check_panels_periodic(walls: WallSet, axis: int) -> None:
+    """A panel may not end inside the periodic direction: coordinates along it are only
+    defined modulo the period, so any in-plane extent with a component along the axis
+    must be unbounded."""
+    pan = walls.panels
+    for p in range(walls.n_panels):
+        for e, half in ((pan.e1[p], pan.half[p, 0]), (pan.e2[p], pan.half[p, 1])):
+            if abs(e[axis]) > 1e-12 and np.isfinite(half):
+                raise InvalidParameter(f"panel {p} half extent", float(half),
+                                       "np.inf along the periodic axis (use unbounded_width / periodic_axis)")
+
+
+def _build_bodies(pos, radii, labels, vel, density) -> tuple[Spheres, Clumps]:
+    n = pos.shape[0]
+    bodies = _body_ranges(labels)
+    sph_mass = density * 4.0 / 3.0 * math.pi * radii ** 3
+    inv_m = 1.0 / sph_mass
+    inv_i = 1.0 / (0.4 * sph_mass * radii ** 2)
+    clump_of = -np.ones(n, np.int64)
+    body_id = np.arange(n, dtype=np.int64)
+    x = pos.copy()
+    v = vel.copy()
+    offsets = np.zeros((n, 3))
+    cl_x, cl_v, cl_q, cl_im, cl_ii = [], [], [], [], []
+    clump_ranges = [(a, b) for a, b in bodies if labels[a] >= 0]
+    for c, (a, b) in enumerate(clump_ranges):
+        props = clump_properties(pos[a:b], radii[a:b], density)
+        moments, axes = principal_frame(props.inertia)
+        q = matrix_to_quaternion(axes)
+        b_off = (pos[a:b] - props.centre) @ axes          # body-frame offsets
+        offsets[a:b] = b_off
+        # place members exactly where the kernel will (x = X + R b)
+        for m in range(a, b):
+            x[m] = props.centre + kernels.quat_rotate(q[0], q[1], q[2], q[3], *b_off[m - a])
+        vc = vel[a:b].mean(axis=0)
+        v[a:b] = vc
+        cl_x.append(props.centre)
+        cl_v.append(vc)
+        cl_q.append(q)
+        cl_im.append(1.0 / props.mass)
+        cl_ii.append(1.0 / moments)
+        clump_of[a:b] = c
+        body_id[a:b] = a
+        inv_m[a:b] = 1.0 / props.mass
+        inv_i[a:b] = 0.0
+    nc = len(clump_ranges)
+    spheres = Spheres(x=np.ascontiguousarray(x), v=np.ascontiguousarray(v), w=np.zeros((n, 3)),
+                      r=radii.copy(), inv_m=inv_m, inv_i=inv_i, clump=clump_of, body_id=body_id,
+                      f=np.zeros((n, 3)), t=np.zeros((n, 3)), x_ref=x.copy())
+    clumps = Clumps(x=np.array(cl_x, float).reshape(nc, 3), v=np.array(cl_v, float).reshape(nc, 3),
+                    am=np.zeros((nc, 3)), w=np.zeros((nc, 3)), q=np.array(cl_q, float).reshape(nc, 4),
+                    inv_m=np.array(cl_im, float).reshape(nc), inv_i=np.array(cl_ii, float).reshape(nc, 3),
+                    members=np.array(clump_ranges, np.int64).reshape(nc, 2), offset=offsets)
+    return spheres, clumps
+
+
+def _empty_pairs(n: int, cap: int) -> Pairs:
+    return Pairs(start=np.zeros(n + 1, np.int64), nbr=np.zeros(cap, np.int64),
+                 tstart=np.zeros(n + 1, np.int64), tpair=np.zeros(cap, np.int64),
+                 tpos=np.zeros(cap, np.int64), ut=np.zeros((cap, 3)), active=np.zeros(cap, np.uint8),
+                 pf=np.zeros((cap, 8)))
+
+
+def _empty_wall_pairs(n: int, cap: int) -> WallPairs:
+    return WallPairs(start=np.zeros(n + 1, np.int64), panel=np.zeros(cap, np.int64),
+                     ut=np.zeros((cap, 3)), active=np.zeros(cap, np.uint8), out=np.zeros((cap, 6)))

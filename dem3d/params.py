@@ -1,0 +1,176 @@
+"""Contact-law parameters and the time-step rule.
+
+``ContactParams`` is a NamedTuple of plain numbers so numba types it (and caches kernels
+that take it); frozen dataclasses are rejected by numba (../shared/STYLE.md Part B).
+Build it with :func:`linear` (PFC linear model) or :func:`hertz_mindlin`.
+
+The same law acts between two particles and between a particle and a wall panel; a panel
+brings only its own friction coefficient (walls are rigid and of the grains' material).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from analytic.errors import InvalidParameter
+from analytic.inputs import require_number
+
+LINEAR = 0          #: law id: linear spring, kn/ks constant (PFC "linear", LIGGGHTS hooke/stiffness)
+HERTZ_MINDLIN = 1   #: law id: Hertz normal + Mindlin (no-slip) tangential stiffness
+
+RATIO = 0           #: damping given as critical-damping ratios zeta_n, zeta_s [-]
+ABSOLUTE = 1        #: damping given as dashpot coefficients c_n, c_s [N s/m]
+
+COULOMB_ELASTIC = 0  #: |F_t| <= mu F_n,elastic (PFC linear model)
+COULOMB_TOTAL = 1    #: |F_t| <= mu |F_n,elastic + F_n,viscous| (LIGGGHTS tangential history)
+
+
+class ContactParams(NamedTuple):
+    """One contact law, used for particle-particle and particle-wall contacts.
+
+    law:            LINEAR or HERTZ_MINDLIN
+    kn, ks:         normal / tangential spring stiffness [N/m] (LINEAR)
+    e_star, g_star: effective Young's and shear moduli E*, G* [Pa] (HERTZ_MINDLIN);
+                    F_n = 4/3 E* sqrt(R*) delta^1.5, k_t = 8 G* sqrt(R* delta)
+    damping:        RATIO or ABSOLUTE (how damp_n/damp_s are read)
+    damp_n, damp_s: normal / tangential viscous damping: critical ratios [-] (RATIO) or
+                    coefficients [N s/m] (ABSOLUTE); for RATIO, c = 2 zeta sqrt(m* k)
+                    (linear) and c = 2 sqrt(5/6) zeta sqrt(m* k_tangent) (Hertz, Tsuji et al. 1992)
+    mu:             particle-particle Coulomb friction coefficient [-]
+    local_damping:  PFC local (non-viscous) damping alpha [-], 0 <= alpha < 1:
+                    each force/moment component is reduced by alpha |F| sign(v)
+                    (Cundall 1987; PFC3D manual) -- for quasi-static stages only
+    coulomb:        COULOMB_ELASTIC (cap on the elastic normal force, PFC) or
+                    COULOMB_TOTAL (on the total normal force, LIGGGHTS)
+    """
+
+    law: int
+    kn: float
+    ks: float
+    e_star: float
+    g_star: float
+    damping: int
+    damp_n: float
+    damp_s: float
+    mu: float
+    local_damping: float
+    coulomb: int = COULOMB_ELASTIC
+
+
+def linear(kn: float, ks: float, mu: float, *, zeta_n: float | None = None, zeta_s: float | None = None,
+           c_n: float | None = None, c_s: float | None = None, local_damping: float = 0.0,
+           coulomb: str = "elastic") -> ContactParams:
+    """PFC-style linear contact: F_n = kn delta + c_n v_n, incremental F_t = -ks u_t - c_s v_t,
+    |F_t| <= mu kn delta.
+
+    Damping is given either as critical-damping ratios (``zeta_n``, ``zeta_s``; a head-on
+    collision then has restitution e = exp(-zeta pi / sqrt(1 - zeta^2))) or as absolute
+    coefficients (``c_n``, ``c_s`` in N s/m, LIGGGHTS ``absolute_damping on``), not both.
+    ``coulomb="total"`` caps |F_t| by mu times the total normal force as LIGGGHTS does
+    (its benchmark uses this); the default "elastic" is PFC's cap.
+    """
+    kn = require_number("kn", kn, 0.0, None, unit="N/m")
+    ks = require_number("ks", ks, 0.0, None, lo_open=False, unit="N/m")
+    mode, dn, ds = _damping(zeta_n, zeta_s, c_n, c_s)
+    return ContactParams(LINEAR, kn, ks, 0.0, 0.0, mode, dn, ds, _mu("mu", mu), _alpha(local_damping),
+                         _coulomb(coulomb))
+
+
+def hertz_mindlin(youngs: float, poisson: float, mu: float, *, zeta_n: float | None = None,
+                  zeta_s: float | None = None, c_n: float | None = None, c_s: float | None = None,
+                  local_damping: float = 0.0, coulomb: str = "elastic") -> ContactParams:
+    """Hertz-Mindlin contact between grains of one material (Young's modulus ``youngs`` [Pa],
+    Poisson's ratio ``poisson``): E* = E / (2 (1 - nu^2)), G* = E / (4 (2 - nu)(1 + nu))
+    (Johnson 1985; LIGGGHTS ``hertz``/``tangential history``). Walls use the same E*, G*.
+    """
+    youngs = require_number("youngs", youngs, 0.0, None, unit="Pa")
+    poisson = require_number("poisson", poisson, -1.0, 0.5, hi_open=False)
+    mode, dn, ds = _damping(zeta_n, zeta_s, c_n, c_s)
+    e_star = youngs / (2.0 * (1.0 - poisson ** 2))
+    g_star = youngs / (4.0 * (2.0 - poisson) * (1.0 + poisson))
+    return ContactParams(HERTZ_MINDLIN, 0.0, 0.0, e_star, g_star, mode, dn, ds, _mu("mu", mu),
+                         _alpha(local_damping), _coulomb(coulomb))
+
+
+def restitution_to_damping_ratio(e: float) -> float:
+    """zeta for a linear spring-dashpot with restitution e: zeta = -ln e / sqrt(pi^2 + ln^2 e)."""
+    e = require_number("restitution", e, 0.0, 1.0, hi_open=False)
+    return -math.log(e) / math.sqrt(math.pi ** 2 + math.log(e) ** 2)
+
+
+def _damping(zeta_n, zeta_s, c_n, c_s):
+    if (zeta_n is not None or zeta_s is not None) and (c_n is not None or c_s is not None):
+        raise InvalidParameter("damping", "ratios and coefficients", "either zeta_n/zeta_s or c_n/c_s")
+    if c_n is not None or c_s is not None:
+        return (ABSOLUTE, require_number("c_n", c_n or 0.0, 0.0, None, lo_open=False, unit="N s/m"),
+                require_number("c_s", c_s or 0.0, 0.0, None, lo_open=False, unit="N s/m"))
+    return (RATIO, require_number("zeta_n", zeta_n or 0.0, 0.0, 1.0, lo_open=False),
+            require_number("zeta_s", zeta_s or 0.0, 0.0, 1.0, lo_open=False))
+
+
+def _coulomb(kind):
+    if kind not in ("elastic", "total"):
+        raise InvalidParameter("coulomb", kind, "'elastic' or 'total'")
+    return COULOMB_ELASTIC if kind == "elastic" else COULOMB_TOTAL
+
+
+def _mu(name, mu):
+    return require_number(name, mu, 0.0, None, lo_open=False)
+
+
+def _alpha(alpha):
+    return require_number("local_damping", alpha, 0.0, 1.0, lo_open=False)
+
+
+def with_local_damping(params: ContactParams, alpha: float) -> ContactParams:
+    """The same law with PFC local damping ``alpha`` (e.g. 0.7 to settle, 0 to measure)."""
+    return params._replace(local_damping=_alpha(alpha))
+
+
+#: refuse dt above this fraction of sqrt(m_min / k_max). A sphere held by Z springs of
+#: stiffness k has omega_max <= sqrt(2 Z k / m) (Gershgorin bound, each contact counted for
+#: both bodies); for Z = 12 the central-difference limit 2/omega is 0.41 sqrt(m/k), so 0.2
+#: keeps a factor ~2 margin, plus room for viscous damping (which lowers the limit).
+DT_SAFETY = 0.2
+
+
+def critical_time_step(params: ContactParams, min_mass: float, min_radius: float,
+                       density: float) -> float:
+    """Reference critical step [s].
+
+    LINEAR: sqrt(m_min / k_max) with k_max = max(kn, ks) (PFC3D manual, "Time step
+    determination"; 1/omega of the lightest sphere on its stiffest spring).
+    HERTZ_MINDLIN: the Rayleigh-wave step pi R_min sqrt(rho / G) / (0.1631 nu + 0.8766)
+    (Li et al. 2005), with G and nu recovered from E*, G*.
+    """
+    if params.law == LINEAR:
+        return math.sqrt(min_mass / max(params.kn, params.ks))
+    # invert E* = E/(2(1-nu^2)), G* = E/(4(2-nu)(1+nu)) for nu by bisection (monotone on [-1, 0.5])
+    ratio = params.g_star / params.e_star
+    lo, hi = -0.999, 0.5
+    for _ in range(200):
+        nu = 0.5 * (lo + hi)
+        r = 2.0 * (1.0 - nu ** 2) / (4.0 * (2.0 - nu) * (1.0 + nu))
+        if r > ratio:
+            lo = nu
+        else:
+            hi = nu
+    youngs = params.e_star * 2.0 * (1.0 - nu ** 2)
+    shear = youngs / (2.0 * (1.0 + nu))
+    return math.pi * min_radius * math.sqrt(density / shear) / (0.1631 * nu + 0.8766)
+
+
+def check_time_step(dt: float, dt_critical: float, *, allow_unsafe: bool = False,
+                    safety: float = DT_SAFETY) -> float:
+    """Return dt, or raise a one-line InvalidParameter if dt > safety * dt_critical.
+
+    ``allow_unsafe=True`` is the expert override (blow-up detection still runs).
+    """
+    dt = require_number("dt", dt, 0.0, None, unit="s")
+    limit = safety * dt_critical
+    if dt > limit and not allow_unsafe:
+        raise InvalidParameter("dt", dt, f"(0, {limit:.4g}] s",
+                               f"{safety:g} x critical step {dt_critical:.4g} s from the lightest "
+                               "sphere and stiffest spring; allow_unsafe=True overrides")
+    return dt

@@ -1,0 +1,167 @@
+"""Structure-of-arrays records the kernels read and write.
+
+Every array is C-contiguous; float arrays are float64, index arrays int64, flags uint8.
+The NamedTuples are immutable records of *mutable* arrays: the kernels update arrays in
+place, the engine never swaps an array out from under a record without building a new one.
+
+Index conventions
+-----------------
+* Spheres are numbered 0..n-1. The spheres of one clump are stored contiguously; a free
+  sphere is its own body.
+* ``body_id[i]`` is ``i`` for a free sphere and the index of the clump's first sphere for
+  a clump member, so body ids are sphere indices and never collide.
+* Velocities are those of the leapfrog half step: after step k (time t_k), ``v`` holds
+  v(t_k - dt/2) ... v(t_k + dt/2) as documented per field.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Spheres(NamedTuple):
+    """Per-sphere state, n spheres.
+
+    x:      (n, 3) centre positions [m] at time t
+    v:      (n, 3) centre velocities [m/s] at t - dt/2 (leapfrog half step)
+    w:      (n, 3) angular velocities [rad/s] at t - dt/2 (a clump member carries its clump's)
+    r:      (n,)   radii [m]
+    inv_m:  (n,)   1 / mass of the body the sphere belongs to [1/kg]; 0 = immovable
+    inv_i:  (n,)   1 / moment of inertia of a free sphere [1/(kg m^2)]; 0 = rotation locked
+                   (unused for clump members: their clump holds the inertia)
+    clump:  (n,)   clump index, -1 for a free sphere
+    body_id:(n,)   body index (see module docstring)
+    f:      (n, 3) contact force on the sphere from the last force evaluation [N]
+    t:      (n, 3) contact torque about the sphere centre from the last evaluation [N m]
+    x_ref:  (n, 3) positions when the neighbour list was last built [m]
+    """
+
+    x: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    r: np.ndarray
+    inv_m: np.ndarray
+    inv_i: np.ndarray
+    clump: np.ndarray
+    body_id: np.ndarray
+    f: np.ndarray
+    t: np.ndarray
+    x_ref: np.ndarray
+
+
+class Clumps(NamedTuple):
+    """Rigid clumps of overlapping spheres, nc clumps.
+
+    x:      (nc, 3) centre of mass [m] at t
+    v:      (nc, 3) centre-of-mass velocity [m/s] at t - dt/2
+    am:     (nc, 3) angular momentum about the centre of mass, world frame [kg m^2/s] at t - dt/2
+    w:      (nc, 3) angular velocity, world frame [rad/s] at t - dt/2
+    q:      (nc, 4) orientation quaternion (w, x, y, z), body (principal) frame -> world
+    inv_m:  (nc,)   1 / clump mass [1/kg] (0 = immovable)
+    inv_i:  (nc, 3) 1 / principal moments of inertia [1/(kg m^2)] (all 0 = rotation locked)
+    members:(nc, 2) members of clump c are spheres members[c, 0] .. members[c, 1]-1
+    offset: (n, 3)  member centre in the body frame [m] (rows of free spheres unused)
+    """
+
+    x: np.ndarray
+    v: np.ndarray
+    am: np.ndarray
+    w: np.ndarray
+    q: np.ndarray
+    inv_m: np.ndarray
+    inv_i: np.ndarray
+    members: np.ndarray
+    offset: np.ndarray
+
+
+class Pairs(NamedTuple):
+    """Half Verlet list in CSR form (each pair once, listed under its *first* sphere i,
+    the one whose cell comes first in the scan), with per-pair contact history.
+
+    start:  (n+1,)    pairs listed under sphere i are k = start[i] .. start[i+1]-1
+    nbr:    (cap,)    j of pair k
+    tstart: (n+1,)    transpose: the pairs in which sphere j is the second sphere occupy
+                      positions tstart[j] .. tstart[j+1]-1 of the transposed order
+    tpair:  (cap,)    pair index k at each transposed position
+    tpos:   (cap,)    transposed position of pair k (inverse of tpair)
+    ut:     (cap, 3)  tangential spring displacement of i relative to j [m], by pair k
+    active: (cap,)    1 if pair k touched at the last force evaluation
+    pf:     (cap, 8)  by TRANSPOSED position (so pass 2 reads it sequentially), from the
+                      last evaluation: force on j (3) [N], torque on j about its centre (3)
+                      [N m], normal force (compression +) [N], unused; all zero for a pair
+                      not in contact
+    """
+
+    start: np.ndarray
+    nbr: np.ndarray
+    tstart: np.ndarray
+    tpair: np.ndarray
+    tpos: np.ndarray
+    ut: np.ndarray
+    active: np.ndarray
+    pf: np.ndarray
+
+
+class WallPairs(NamedTuple):
+    """Sphere-panel candidate contacts in CSR form by sphere, with contact history.
+
+    start:  (n+1,)    candidates of sphere i are k = start[i] .. start[i+1]-1
+    panel:  (cap,)    panel index of candidate k
+    ut:     (cap, 3)  tangential spring displacement of the sphere relative to the panel [m]
+    active: (cap,)    1 if touching at the last force evaluation
+    out:    (cap, 6)  force on the sphere (3) [N], contact point (3) [m]
+    """
+
+    start: np.ndarray
+    panel: np.ndarray
+    ut: np.ndarray
+    active: np.ndarray
+    out: np.ndarray
+
+
+class Panels(NamedTuple):
+    """Planar rectangular wall panels, p panels (see dem3d.walls for builders).
+
+    centre: (p, 3)  panel centre [m]
+    e1, e2: (p, 3)  unit in-plane axes
+    normal: (p, 3)  unit normal e1 x e2, pointing from the wall INTO the particles
+    half:   (p, 2)  half extents along e1, e2 [m]; np.inf = unbounded
+    mu:     (p,)    particle-panel friction coefficient
+    shared: (p, 4)  1 where an edge (-e1, +e1, -e2, +e2) is shared with a coplanar
+                    neighbour panel: no edge contact there, and the half-open rule
+                    [-a, a) assigns a sphere to exactly one of the two panels
+    vel:    (p, 3)  velocity of the panel centre [m/s]
+    omega:  (p, 3)  angular velocity [rad/s]; a point q of the panel moves at
+                    vel + omega x (q - centre)
+    """
+
+    centre: np.ndarray
+    e1: np.ndarray
+    e2: np.ndarray
+    normal: np.ndarray
+    half: np.ndarray
+    mu: np.ndarray
+    shared: np.ndarray
+    vel: np.ndarray
+    omega: np.ndarray
+
+
+class Specimen(NamedTuple):
+    """Particles to simulate (an input record; see dem3d.prep for generators).
+
+    positions:  (n, 3) sphere centres [m]
+    radii:      (n,)   sphere radii [m]
+    clump:      (n,)   clump label per sphere, -1 for a free sphere; the spheres of one
+                       clump must be contiguous (labels otherwise arbitrary)
+    density:    grain density [kg/m^3]
+    velocities: (n, 3) initial centre velocities [m/s] or None (at rest); a clump takes
+                the mean of its members' velocities
+    """
+
+    positions: np.ndarray
+    radii: np.ndarray
+    clump: np.ndarray
+    density: float
+    velocities: np.ndarray | None = None

@@ -1,0 +1,49 @@
+"""The design's boundaries, checked on the source: only viz/ imports rerun; engines and
+theories do no file I/O and never print; analytic/ imports no engine."""
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ["analytic", "dem2d", "dem3d", "viz", "workflows"]
+
+
+def _imports(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text())
+    out = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            out.add(node.module.split(".")[0])
+    return out
+
+
+def _sources(pkg):
+    return sorted((ROOT / pkg).rglob("*.py"))
+
+
+def test_only_viz_imports_rerun():
+    offenders = [str(p.relative_to(ROOT)) for pkg in PACKAGES if pkg != "viz"
+                 for p in _sources(pkg) if "rerun" in _imports(p)]
+    offenders += ["cli.py"] if "rerun" in _imports(ROOT / "cli.py") else []
+    assert offenders == []
+
+
+def test_engines_and_theories_are_pure():
+    """No print(), open() or rerun/matplotlib in analytic/, dem2d/, dem3d/."""
+    bad = []
+    for pkg in ("analytic", "dem2d", "dem3d"):
+        for p in _sources(pkg):
+            tree = ast.parse(p.read_text())
+            for node in ast.walk(tree):
+                if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("print", "open"):
+                    bad.append(f"{p.relative_to(ROOT)}:{node.lineno} {node.func.id}()")
+            if _imports(p) & {"rerun", "matplotlib", "rich"}:
+                bad.append(f"{p.relative_to(ROOT)} imports output libraries")
+    assert bad == []
+
+
+def test_analytic_depends_on_no_engine():
+    for p in _sources("analytic"):
+        assert not (_imports(p) & {"dem2d", "dem3d", "viz", "workflows", "pymunk", "numba"}), p

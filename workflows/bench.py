@@ -1,0 +1,175 @@
+"""The dem3d speed benchmark against LIGGGHTS on the same problem (benchmarks/liggghts).
+
+Problem (benchmarks/liggghts/README.md): a settled packing of N spheres (diameters
+0.05-0.07 m, density 2650) between walls at x = 0 and x = 3.5 m, on a floor at z = 0,
+periodic in y over 0.5 m, gravity 9.81; Hookean contact kn = 8.3e6 N/m, kt = 3.32e6 N/m,
+mu = 0.65 (walls too), absolute normal damping 487 N s/m, no tangential damping,
+tangential history capped by mu |F_n| including the viscous part (as LIGGGHTS does; PFC and
+dem3d's default cap on the elastic part only, which gave ~4 % less kinetic energy after
+1000 steps); dt = 2e-5 s; zero initial velocities and no shear history.
+
+Timing: wallsim excludes JIT compilation (a warm-up run compiles or loads the kernels
+first) and set-up (building the first neighbour list), as LIGGGHTS' "Loop time" excludes
+its set-up. Both engines run in the same process tree one after the other; on a shared
+machine compare the ratio, not the absolute rates.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from analytic.errors import InvalidParameter
+
+BENCH_DIR = Path(__file__).resolve().parent.parent / "benchmarks" / "liggghts"
+LIGGGHTS = "liggghts"
+BOX_X = 3.5
+PERIOD_Y = 0.5
+DT = 2e-5
+SKIN = 0.01
+DENSITY = 2650.0
+
+
+class EngineRun(NamedTuple):
+    """One timed run: wall seconds of the stepping loop, particle-steps per second, and the
+    state after it for the physics cross-check (translational and rotational kinetic
+    energy [J], sphere-sphere contacts counted per sphere, 2 x touching pairs, as
+    LIGGGHTS' compute contact/atom summed over atoms)."""
+
+    n: int
+    steps: int
+    seconds: float
+    particle_steps_per_s: float
+    kinetic_energy: float
+    rotational_energy: float
+    contacts: int
+
+
+def read_packing(n: int, copies_y: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (N, 3) [m] and radii (N,) [m] of the settled packing of ``n`` spheres
+    (``settled_<n>.data``: ``id type diameter density x y z``), replicated ``copies_y``
+    times along the periodic y axis (the packing is periodic in y, so the copies join
+    seamlessly; period = copies_y x 0.5 m)."""
+    path = BENCH_DIR / f"settled_{n}.data"
+    if not path.exists():
+        raise InvalidParameter("n", n, "10000 or 30000 (a settled_<n>.data in benchmarks/liggghts)")
+    rows = np.loadtxt(path, skiprows=11)
+    rows = rows[np.argsort(rows[:, 0])]
+    pos = rows[:, 4:7]
+    radii = 0.5 * rows[:, 2]
+    if copies_y > 1:
+        pos = np.concatenate([pos + [0.0, k * PERIOD_Y, 0.0] for k in range(copies_y)])
+        radii = np.tile(radii, copies_y)
+    return pos, radii
+
+
+def build_problem(n: int, copies_y: int = 1):
+    """The benchmark problem as a dem3d Simulation."""
+    from dem3d import Periodic, Simulation, Specimen, Wall, linear, plane
+
+    pos, radii = read_packing(n, copies_y)
+    spec = Specimen(pos, radii, -np.ones(len(radii), np.int64), DENSITY)
+    params = linear(8.3e6, 3.32e6, 0.65, c_n=487.0, c_s=0.0, coulomb="total")   # LIGGGHTS' Coulomb cap
+    walls = [Wall("x0", plane((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), mu=0.65)),
+             Wall("x1", plane((BOX_X, 0.0, 0.0), (-1.0, 0.0, 0.0), mu=0.65)),
+             Wall("floor", plane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), mu=0.65))]
+    return Simulation(spec, params, dt=DT, walls=walls, periodic=Periodic(1, 0.0, PERIOD_Y * copies_y),
+                      skin=SKIN)
+
+
+def _summary(sim, n: int, steps: int, seconds: float) -> EngineRun:
+    from dem3d.measure import kinetic_energy
+
+    sph = sim.spheres
+    m = 1.0 / sph.inv_m
+    ke = 0.5 * float(np.sum(m * np.sum(sph.v ** 2, axis=1)))
+    total = kinetic_energy(sim)
+    pairs = int(np.count_nonzero(sim.pairs.active[:sim.pairs.start[-1]]))
+    return EngineRun(n, steps, seconds, n * steps / seconds, ke, total - ke, 2 * pairs)
+
+
+def time_wallsim(n: int, steps: int, threads: int, copies_y: int = 1) -> EngineRun:
+    """Time ``steps`` steps of the benchmark in dem3d on ``threads`` numba threads."""
+    import numba
+
+    if threads > numba.config.NUMBA_NUM_THREADS:
+        raise InvalidParameter("threads", threads, f"<= {numba.config.NUMBA_NUM_THREADS} (NUMBA_NUM_THREADS)")
+    numba.set_num_threads(threads)
+    warm = build_problem(10_000)          # compiles (or loads from the cache) every kernel
+    warm.step(3)
+    sim = build_problem(n, copies_y)
+    start = time.perf_counter()
+    sim.step(steps)
+    seconds = time.perf_counter() - start
+    return _summary(sim, n * copies_y, steps, seconds)
+
+
+_LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms")
+
+
+def run_liggghts(n: int, steps: int, executable: str = LIGGGHTS) -> EngineRun:
+    """Run LIGGGHTS on the same problem exactly as benchmarks/liggghts/README.md says and
+    parse its ``Loop time`` and final thermo line (step atoms ke rke contacts cpu)."""
+    exe = shutil.which(executable)
+    if exe is None:
+        raise InvalidParameter("liggghts", executable, "an installed LIGGGHTS (apt-get install liggghts)",
+                               "or pass --no-liggghts")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in ("bench.in", "model.in", f"settled_{n}.data"):
+            shutil.copy(BENCH_DIR / name, tmp)
+        cmd = [exe, "-in", "bench.in", "-var", "MODEL", "model.in", "-var", "DATA", f"settled_{n}.data",
+               "-var", "DT", f"{DT:g}", "-var", "NRUN", str(steps), "-var", "SKIN", f"{SKIN:g}",
+               "-log", "none", "-echo", "none"]
+        out = subprocess.run(cmd, cwd=tmp, capture_output=True, text=True, check=True).stdout
+    loop = _LOOP.search(out)
+    if loop is None:
+        raise RuntimeError("LIGGGHTS printed no 'Loop time' line: " + out[-300:].replace("\n", " | "))
+    seconds = float(loop.group(1))
+    thermo = [line.split() for line in out.splitlines()
+              if line.split()[:1] == [str(steps)] and len(line.split()) == 6]
+    step, atoms, ke, rke, contacts, _ = thermo[-1]
+    return EngineRun(int(atoms), steps, seconds, int(atoms) * steps / seconds, float(ke), float(rke),
+                     int(float(contacts)))
+
+
+def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts: bool = True) -> dict:
+    """Both engines on the same problem; the dict has the keys the CLI's --json prints
+    (n, steps, threads, wallsim_particle_steps_per_s, liggghts_particle_steps_per_s, ratio)
+    plus the physics cross-check."""
+    ours = time_wallsim(n, steps, threads)
+    theirs = run_liggghts(n, steps) if liggghts else None
+    result = {
+        "n": n, "steps": steps, "threads": threads,
+        "wallsim_particle_steps_per_s": ours.particle_steps_per_s,
+        "liggghts_particle_steps_per_s": theirs.particle_steps_per_s if theirs else None,
+        "ratio": ours.particle_steps_per_s / theirs.particle_steps_per_s if theirs else None,
+        "wallsim_seconds": ours.seconds,
+        "liggghts_seconds": theirs.seconds if theirs else None,
+        "check": {
+            "wallsim": {"kinetic_energy_J": ours.kinetic_energy, "rotational_energy_J": ours.rotational_energy,
+                        "contacts": ours.contacts},
+            "liggghts": ({"kinetic_energy_J": theirs.kinetic_energy, "rotational_energy_J": theirs.rotational_energy,
+                          "contacts": theirs.contacts} if theirs else None),
+        },
+    }
+    return result
+
+
+def scaling(steps: int = 500, threads: int = 2) -> list[dict]:
+    """Time per step versus N: the 10k and 30k packings and the 10k packing tiled 10 times
+    along the periodic axis (100k spheres, period 5 m)."""
+    rows = []
+    for n, copies in ((10_000, 1), (30_000, 1), (10_000, 10)):
+        run = time_wallsim(n, steps, threads, copies_y=copies)
+        rows.append({"n": run.n, "steps": steps, "threads": threads,
+                     "ms_per_step": 1e3 * run.seconds / steps,
+                     "ns_per_particle_step": 1e9 * run.seconds / (steps * run.n),
+                     "particle_steps_per_s": run.particle_steps_per_s})
+    return rows

@@ -1,0 +1,640 @@
+"""Nadukuru & Michalowski (2012): a 3.1 m wall of 6 segments, rained backfill of spheres
+and two-sphere clumps, four modes of wall movement. The case builder over dem3d.
+
+Stages (each a function; the CLI strings them together):
+
+1. ``prepare_specimen``: generate bodies loosely above the box, rain them under gravity
+   (optionally with a lower "deposition" friction, a standard way to densify), trim to
+   the wall height, restore the particle friction, settle; report porosity, at-rest K,
+   centroid and wall load. The settled state is cached so all modes start from it.
+2. ``move_wall``: translate or rotate the wall quasi-statically to Delta/H; yields the
+   load history (K, centroid, segment stresses) and frames for the recording.
+3. ``theory_rows``: Coulomb, Rankine, DSM for the mode, the paper's DEM, Fang & Ishibashi.
+
+Geometry: wall face at x = 0 (normal +x, backfill at x > 0), floor z = 0, far wall at
+x = L, periodic along y (width w). Wall movement is away from the backfill (-x).
+K follows eq. 6: K = F_n / (0.5 rho (1 - n) g H^2 w), F_n the normal force on the wall,
+n the measured porosity of the specimen (the paper used n = 0.36).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterator, Literal
+
+import numpy as np
+
+import dem3d
+from analytic.errors import InvalidParameter
+from analytic.inputs import require_number
+from dem3d import measure
+
+G = 9.81
+MODES = ("T", "RB", "RT", "mixed")
+MODE_TITLES = {"T": "translation", "RB": "rotation about the base", "RT": "rotation about the top",
+               "mixed": "rotation about a point H/2 above the top"}
+#: clump volume over one sphere's for two equal spheres overlapping by one radius
+#: (lens of two spheres at centre distance r: 5 pi r^3 / 12)
+_CLUMP_VOLUME_FACTOR = 2.0 - (5.0 / 12.0) / (4.0 / 3.0)
+
+
+@dataclass(frozen=True)
+class SpecimenRecipe:
+    """How the backfill is made. Lengths in m, stiffness in N/m, density in kg/m^3.
+
+    particles:            spheres including clump members (PFC "balls"; paper ~30,000)
+    clump_fraction:       fraction of the bodies that are two-sphere clumps (paper 0.30)
+    clump_overlap:        overlap of the two clump spheres in radii (paper 1.0)
+    d_min, d_max:         sphere diameters, uniform (paper 0.046-0.0736 at 30,000 particles;
+                          fewer particles scale the grains up so the same box is filled)
+    kn, ks, particle_friction, density: contact and grain properties (paper values)
+    damping_ratio:        viscous normal damping, fraction of critical (not given in the paper)
+    local_damping:        PFC local damping while raining and settling (0.7 is PFC's default)
+    deposition_friction:  particle friction while raining (< particle_friction densifies)
+    deposition_gravity:   gravity while the grains fall and pack, as a fraction of g (a
+                          shorter fall; with frictionless deposition the packing does not
+                          depend on it)
+    deposition_softening: kn and ks are divided by this while the grains fall and pack
+                          (a sqrt(softening) larger time step; the paper's stiffness is
+                          restored before friction is switched on)
+    rain_gravity:         gravity at which the particle friction is switched on, as a
+                          fraction of g; the fill is then loaded to full g with friction (a
+                          1D compression that dominates the stresses locked in at deposition)
+    floor_friction:       friction of the floor
+    target_porosity:      porosity used to size the grains so the box fills to H
+    dt:                   time step [s] (None: 0.2 x the critical step)
+    settle_ratio:         unbalanced-force ratio that ends settling
+    """
+
+    particles: int = 30_000
+    clump_fraction: float = 0.30
+    clump_overlap: float = 1.0
+    d_min: float = 0.046
+    d_max: float = 0.0736
+    kn: float = 8.3e6
+    ks: float = 3.32e6
+    particle_friction: float = 0.65
+    density: float = 2650.0
+    damping_ratio: float = 0.2
+    local_damping: float = 0.7
+    deposition_friction: float = 0.0
+    floor_friction: float = 0.65
+    rain_gravity: float = 0.25
+    deposition_gravity: float = 2.0
+    deposition_softening: float = 10.0
+    target_porosity: float = 0.36
+    dt: float | None = None
+    settle_ratio: float = 2e-3
+
+    def __post_init__(self):
+        require_number("particles", self.particles, 50, None, lo_open=False)
+        require_number("clump_fraction", self.clump_fraction, 0, 1, lo_open=False, hi_open=False)
+        require_number("particle_friction", self.particle_friction, 0, None, lo_open=False)
+        require_number("deposition_friction", self.deposition_friction, 0, None, lo_open=False)
+        require_number("target_porosity", self.target_porosity, 0.2, 0.7)
+        require_number("damping_ratio", self.damping_ratio, 0, 1, lo_open=False)
+        require_number("local_damping", self.local_damping, 0, 1, lo_open=False)
+
+
+@dataclass(frozen=True)
+class WallSetup:
+    """The wall and the box. height H and width w [m], 6 equal segments in the paper;
+    friction 0.35 (rough) or 0 (smooth); backfill length L behind the wall [m]."""
+
+    height: float = 3.1
+    width: float = 0.5
+    segments: int = 6
+    friction: float = 0.35
+    backfill_length: float = 3.3
+
+    def __post_init__(self):
+        require_number("height", self.height, 0, None)
+        require_number("width", self.width, 0, None)
+        require_number("segments", self.segments, 1, 100, lo_open=False, hi_open=False)
+        require_number("friction", self.friction, 0, None, lo_open=False)
+
+
+@dataclass(frozen=True)
+class Movement:
+    """Wall movement: mode T | RB | RT | mixed, to disp_over_H (Delta at the edge opposite
+    the pivot, paper 0.008), at ``speed`` [m/s] of that edge after a ``ramp`` [s]."""
+
+    mode: Literal["T", "RB", "RT", "mixed"] = "T"
+    disp_over_H: float = 0.008
+    speed: float = 0.02
+    ramp: float = 0.05
+    record_every: int = 50
+
+    def __post_init__(self):
+        if self.mode not in MODES:
+            raise InvalidParameter("mode", self.mode, " | ".join(MODES))
+        require_number("disp_over_H", self.disp_over_H, 0, 0.1)
+        require_number("speed", self.speed, 0, 1.0, unit="m/s")
+
+
+@dataclass(frozen=True)
+class NadukuruCase:
+    specimen: SpecimenRecipe = field(default_factory=SpecimenRecipe)
+    wall: WallSetup = field(default_factory=WallSetup)
+    movement: Movement = field(default_factory=Movement)
+    seed: int = 1
+
+
+def rough_or_smooth(wall: str) -> float:
+    if wall == "rough":
+        return 0.35
+    if wall == "smooth":
+        return 0.0
+    raise InvalidParameter("wall", wall, "rough | smooth")
+
+
+# ----------------------------------------------------------------------------- geometry
+def grain_scale(rec: SpecimenRecipe, wall: WallSetup) -> tuple[float, float]:
+    """(factor on the paper's diameters, periodic width [m]) so that the bodies fill
+    L x w x H at the target porosity (factor ~1.0 at 30,000 particles). With few
+    particles the grains grow; once the width would hold fewer than ~3 cells of the
+    neighbour grid (3.4 d_max, the engine's minimum periodic length) the width grows
+    instead and the grains less, so a reduced run keeps the wall height and backfill length."""
+    n_bodies = rec.particles / (1.0 + rec.clump_fraction)
+    a, b = rec.d_min, rec.d_max
+    mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
+    v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (_CLUMP_VOLUME_FACTOR - 1.0))
+    solid_per_width = (1.0 - rec.target_porosity) * wall.backfill_length * wall.height * _OVERFILL
+    s = (solid_per_width * wall.width / (n_bodies * v_body)) ** (1.0 / 3.0)
+    min_width = _MIN_CELLS * b
+    if min_width * s <= wall.width:
+        return s, wall.width
+    # width = min_width * s  ->  solid_per_width * min_width * s = n v s^3
+    s = math.sqrt(solid_per_width * min_width / (n_bodies * v_body))
+    return s, min_width * s
+
+
+_OVERFILL = 1.04     # fill 4 % above H, trimmed to H after deposition
+_MIN_CELLS = 3.4     # periodic length >= 3 (2 r_max + skin): 3.4 d_max with skin 0.4 r_min
+
+
+def _contact(rec: SpecimenRecipe, mu: float, local: float, softening: float = 1.0) -> dem3d.ContactParams:
+    """The recipe's linear law; ``softening`` divides both stiffnesses (deposition only)."""
+    return dem3d.linear(rec.kn / softening, rec.ks / softening, mu, zeta_n=rec.damping_ratio, zeta_s=0.0,
+                        local_damping=local)
+
+
+def _box_walls(wall: WallSetup, rec: SpecimenRecipe, motion=dem3d.FIXED) -> list:
+    """The retaining wall (segmented, moving), the floor and the far wall (both fixed)."""
+    L, w, H = wall.backfill_length, wall.width, wall.height
+    face = dem3d.segmented_wall((0.0, 0.5 * w, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), w, H, wall.segments,
+                                wall.friction, unbounded_width=True)
+    floor = dem3d.plane((0.5 * L, 0.5 * w, 0.0), (0.0, 0.0, 1.0), rec.floor_friction, (0.5 * L, 0.5 * w))
+    far = dem3d.plane((L, 0.5 * w, 0.5 * H), (-1.0, 0.0, 0.0), 0.0, (0.5 * w, 0.5 * H))
+    # the fill may stand a little above H while raining: a fixed extension above the wall
+    # keeps it in the box; it is removed (with the grains above H) before measuring
+    return [dem3d.Wall("wall", face, motion), dem3d.Wall("box", [floor, far])]
+
+
+def _dt(rec: SpecimenRecipe, scale: float) -> float:
+    if rec.dt is not None:
+        return rec.dt
+    m_min = rec.density * math.pi / 6.0 * (scale * rec.d_min) ** 3
+    return 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
+
+
+# ----------------------------------------------------------------------------- specimen
+@dataclass(frozen=True)
+class Specimen:
+    """A settled specimen and what it achieved."""
+
+    state: dict                  # dem3d Simulation.to_arrays()
+    porosity: float
+    K_at_rest: float
+    centroid_at_rest: float      # height of the resultant / H
+    wall_load_kN: float          # total normal load on the wall [kN] (width w)
+    stress_ratio: float          # sigma_h on the wall / sigma_v on the floor, same depth band
+    n_spheres: int
+    n_bodies: int
+    grain_scale: float
+    dt: float
+    steps: int
+    sim_time: float
+    settle_ratio: float
+    fill_height: float
+    width: float                 # periodic width actually used [m]
+    stages: dict = field(default_factory=dict)   # steps and wall time of each stage
+
+
+#: bump when prepare_specimen changes, so cached specimens of the old procedure are not reused
+PREPARATION_VERSION = 3
+
+
+def specimen_key(case: NadukuruCase) -> str:
+    """Hash of everything that shapes the settled specimen (not the movement)."""
+    blob = json.dumps({"specimen": dataclasses.asdict(case.specimen),
+                       "wall": {k: v for k, v in dataclasses.asdict(case.wall).items()},
+                       "seed": case.seed, "procedure": PREPARATION_VERSION}, sort_keys=True)
+    return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+
+def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
+    """Rain, trim to H and settle the backfill behind the fixed wall (module docstring)."""
+    rec, wall = case.specimen, case.wall
+    rng = np.random.default_rng(case.seed)
+    s, w = grain_scale(rec, wall)
+    wall = dataclasses.replace(wall, width=w)
+    d_min, d_max = s * rec.d_min, s * rec.d_max
+    L, H = wall.backfill_length, wall.height
+    n_bodies = int(round(rec.particles / (1.0 + rec.clump_fraction)))
+    # generate at a solid fraction of 0.2 (random addition jams near 0.25-0.38)
+    gen_height = (1.0 - rec.target_porosity) * H * _OVERFILL / 0.20
+    lo = np.array([0.0, 0.0, 0.0]) + 1e-3
+    hi = np.array([L, w, gen_height]) - 1e-3
+    spec = dem3d.random_specimen(rng, lo, hi, n_bodies, d_min, d_max, clump_fraction=rec.clump_fraction,
+                                 clump_overlap=rec.clump_overlap, density=rec.density)
+    dt = _dt(rec, s)
+    walls = _box_walls(wall, rec)
+    # A. deposition: springs softened by ``deposition_softening`` (a larger stable step: the
+    #    frictionless packing does not depend on the stiffness), deposition friction,
+    #    viscous damping only (local damping would slow the fall to 0.3 g), raised gravity
+    import time as _time
+    stages = {}
+    tic = _time.perf_counter()
+
+    def stage(name, n):
+        nonlocal tic
+        stages[name] = {"steps": int(n), "wall_s": round(_time.perf_counter() - tic, 1)}
+        tic = _time.perf_counter()
+
+    soft = rec.deposition_softening
+    dt_soft = dt * math.sqrt(soft)
+    sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, 0.0, soft), dt=dt_soft, walls=walls,
+                           periodic=dem3d.Periodic(1, 0.0, w))
+    g_dep = G * rec.deposition_gravity
+    sim.gravity = np.array([0.0, 0.0, -g_dep])
+    steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")
+    stage("fall", steps)
+    sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping, soft))
+    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft))
+    steps += res.steps
+    stage("pack", res.steps)
+    # B. unload to the lock-in gravity (overlaps shrink), trim to H, then the paper's
+    #    stiffness and friction at that gravity
+    g_low = G * rec.rain_gravity
+    sim.gravity = np.array([0.0, 0.0, -g_low])
+    steps += _advance(sim, 2000, None, "")
+    sim = _trim(sim, H, walls, rec, dt)      # paper stiffness, still the deposition friction
+    sim.gravity = np.array([0.0, 0.0, -g_low])
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt))
+    steps += res.steps
+    stage("stiffen", res.steps)
+    sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
+    steps += res.steps
+    stage("friction on", res.steps)
+    # C. load to full gravity with friction on: a 1D compression of the whole fill
+    if rec.rain_gravity != 1.0:
+        for k in range(1, 11):
+            sim.gravity = np.array([0.0, 0.0, -(g_low + (G - g_low) * k / 10)])
+            steps += _advance(sim, 500, None, "")
+        res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
+        steps += res.steps
+        stage("load to g", res.steps + 5000)
+    # measure with local damping off: the wall sees the true static state
+    sim.set_params(_contact(rec, rec.particle_friction, 0.0))
+    steps += _advance(sim, 2000, None, "")
+    f = dem3d.frame(sim)
+    n = measure.porosity(sim, (0.1 * L, 0.0, 0.1 * H), (0.9 * L, w, 0.9 * H))
+    load = wall_load(f, sim.walls.panel_ids("wall"), H)
+    gamma = rec.density * (1.0 - n) * G
+    K0 = load.normal / (0.5 * gamma * H**2 * w)
+    ratio = _stress_ratio(sim, f, H, w, L)
+    return Specimen(state=sim.to_arrays(), porosity=n, K_at_rest=K0, centroid_at_rest=load.height / H,
+                    wall_load_kN=load.normal / 1e3, stress_ratio=ratio, n_spheres=sim.n_spheres,
+                    n_bodies=int(len(np.unique(f.body_id))), grain_scale=s, dt=dt, steps=steps,
+                    sim_time=sim.time, settle_ratio=res.ratio, fill_height=_fill_height(sim), width=w, stages=stages)
+
+
+def _advance(sim, n_steps: int, progress, label: str, chunk: int = 1000) -> int:
+    task = progress.add_task(label, total=n_steps, status="") if progress is not None and label else None
+    done = 0
+    while done < n_steps:
+        k = min(chunk, n_steps - done)
+        sim.step(k)
+        done += k
+        if task is not None:
+            progress.update(task, advance=k, status=f"t = {sim.time:.2f} s")
+    return done
+
+
+def _fill_height(sim) -> float:
+    x, r = sim.spheres.x, sim.spheres.r
+    return float(np.percentile(x[:, 2] + r, 99.5))
+
+
+def _trim(sim, H: float, walls, rec: SpecimenRecipe, dt: float):
+    """A new Simulation (paper stiffness, deposition friction, local damping) without the
+    bodies that have any sphere centre above H (contact history restarts; the caller
+    settles again)."""
+    sph = sim.spheres
+    above = sph.x[:, 2] > H
+    body = sph.body_id
+    drop = np.isin(body, np.unique(body[above]))
+    keep = ~drop
+    labels = np.where(sph.clump >= 0, sph.clump, -1)[keep]
+    # clump labels must be contiguous ids per clump; re-number them
+    _, relabel = np.unique(labels[labels >= 0], return_inverse=True)
+    new_labels = labels.copy()
+    new_labels[labels >= 0] = relabel
+    spec = dem3d.Specimen(sph.x[keep].copy(), sph.r[keep].copy(), new_labels, rec.density, sph.v[keep].copy())
+    return dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, rec.local_damping), dt=dt, walls=walls,
+                            periodic=sim.periodic)
+
+
+def _stress_ratio(sim, f, H: float, w: float, L: float) -> float:
+    """sigma_h on the wall over the weight-based vertical stress, over the middle third of
+    the wall: sigma_v(z) = rho (1 - n) g (H - z) estimated from the actual mass above."""
+    ids = sim.walls.panel_ids("wall")
+    sig = measure.panel_normal_stress(f)[ids]
+    zc = f.panel_corners[ids].mean(axis=1)[:, 2]
+    mid = (zc > H / 3) & (zc < 2 * H / 3)
+    mass = float(np.sum(sim.sphere_masses()))   # overlap of clump members ignored here
+    # mean vertical stress at depth d from the weight above it (no wall friction): rho_b g d
+    rho_b = _bulk_density(sim, H, w, L)
+    sv = rho_b * G * (H - zc[mid])
+    return float(np.mean(sig[mid] / sv)) if mid.any() and mass > 0 else float("nan")
+
+
+def _bulk_density(sim, H, w, L) -> float:
+    n = measure.porosity(sim, (0.1 * L, 0.0, 0.1 * H), (0.9 * L, w, 0.9 * H), cells_per_radius=4)
+    return sim.density * (1.0 - n)
+
+
+# ----------------------------------------------------------------------------- wall load
+@dataclass(frozen=True)
+class WallLoad:
+    normal: float          # normal force on the wall [N] (compression +)
+    height: float          # height of its line of action above the base [m]
+    shear: float           # force along the wall, + downward on the wall [N]
+    segment_stress: np.ndarray   # (segments,) normal stress [Pa], bottom to top
+
+
+def wall_load(frame, ids: np.ndarray, H: float, base=None) -> WallLoad:
+    """Resultant of the panel loads of the retaining wall: normal force, its height above
+    the wall base (from the panel forces *and* moments, so not limited to segment
+    centres), downward shear, and the stress on each segment (bottom to top)."""
+    F = frame.panel_force[ids]
+    M = frame.panel_moment[ids]
+    n = frame.panel_normal[ids]
+    c = frame.panel_corners[ids].mean(axis=1)
+    normal_k = -np.einsum("pd,pd->p", F, n)          # compression on each panel
+    N = float(normal_k.sum())
+    corners = frame.panel_corners[ids]
+    if base is None:
+        base = 0.5 * (corners[0, 0] + corners[0, 1])    # middle of the bottom edge
+    up = corners[0, 3] - corners[0, 0]
+    up = up / np.linalg.norm(up)
+    axis = np.cross(up, n[0])
+    # moment about the base edge of the soil's push (-F is the wall's reaction; use the
+    # push F and its panel moments M consistently): height = (arm x (-F) + (-M)) . axis / N
+    mom = float(np.sum((np.cross(c - base, -F) - M) @ axis))
+    height = mom / N if N != 0 else float("nan")
+    shear = float(-np.sum(F @ up))                     # + when the soil drags the wall down
+    sigma = normal_k / frame.panel_area[ids]
+    return WallLoad(N, height, shear, sigma)
+
+
+def load_coefficient(normal_force: float, porosity: float, rec: SpecimenRecipe, wall: WallSetup) -> float:
+    """Eq. 6: K = F / (0.5 rho (1 - n) g H^2 w)."""
+    return normal_force / (0.5 * rec.density * (1.0 - porosity) * G * wall.height**2 * wall.width)
+
+
+# ----------------------------------------------------------------------------- movement
+def wall_motion(movement: Movement, H: float) -> tuple[dem3d.Motion, float]:
+    """The wall's motion for a mode, and the distance [m] from the pivot to the edge whose
+    displacement defines Delta (1 for translation). Speeds ramp up over ``ramp``."""
+    v = movement.speed
+    y_axis = (0.0, 1.0, 0.0)
+    if movement.mode == "T":
+        return dem3d.translation(dem3d.Ramp((-v, 0.0, 0.0), movement.ramp)), 1.0
+    if movement.mode == "RB":      # pivot at the base, top moves -x: axis -y
+        return dem3d.rotation((0.0, 0.0, 0.0), (0.0, -1.0, 0.0), dem3d.Ramp(v / H, movement.ramp)), H
+    if movement.mode == "RT":      # pivot at the top, base moves -x: axis +y
+        return dem3d.rotation((0.0, 0.0, H), y_axis, dem3d.Ramp(v / H, movement.ramp)), H
+    arm = 1.5 * H                  # mixed: pivot H/2 above the top, Delta at the base
+    return dem3d.rotation((0.0, 0.0, 1.5 * H), y_axis, dem3d.Ramp(v / arm, movement.ramp)), arm
+
+
+def _ramp_distance(speed: float, ramp: float, t: float) -> float:
+    """Distance covered by an edge whose speed ramps linearly to ``speed`` over ``ramp``."""
+    if t <= ramp:
+        return 0.5 * speed * t * t / ramp
+    return 0.5 * speed * ramp + speed * (t - ramp)
+
+
+@dataclass(frozen=True)
+class LoadSample:
+    disp_over_H: float
+    time: float
+    step: int
+    K: float
+    centroid: float              # height of the resultant / H
+    normal_kN: float
+    segment_stress: np.ndarray   # (segments,) Pa, bottom to top
+
+
+def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, progress=None,
+              resume: dict | None = None, checkpoint=None,
+              checkpoint_every_s: float = 300.0) -> Iterator[tuple[LoadSample, object | None]]:
+    """Move the wall from the settled specimen to ``disp_over_H``; yields
+    (LoadSample averaged over ``record_every`` steps, Frame or None) pairs.
+
+    ``checkpoint(state)`` is called every ``checkpoint_every_s`` of wall-clock time with
+    the engine state plus ``movement.t0`` (the time the movement started); passing that
+    dict back as ``resume`` continues the movement exactly (dem3d resumes bitwise).
+    """
+    import time as _time
+    from types import SimpleNamespace
+
+    rec, mv = case.specimen, case.movement
+    wall = dataclasses.replace(case.wall, width=specimen.width)
+    H = wall.height
+    motion, _ = wall_motion(mv, H)
+    # motions are schedules from t = 0 while the specimen's clock stands at t0 after
+    # settling: shift them so the ramp starts when the wall starts to move
+    if resume is None:
+        t0 = float(specimen.state["time"])
+        sim = dem3d.Simulation.from_arrays(specimen.state, walls=_box_walls(wall, rec, _shifted(motion, t0)))
+        sim.walls.reset_pivots()              # a new motion, not the stored (fixed) one
+        sim.set_params(_contact(rec, rec.particle_friction, 0.0))
+    else:
+        t0 = float(resume["movement.t0"])
+        sim = dem3d.Simulation.from_arrays({k: v for k, v in resume.items() if k != "movement.t0"},
+                                           walls=_box_walls(wall, rec, _shifted(motion, t0)))
+    target = mv.disp_over_H * H
+    total_time = mv.ramp / 2.0 + target / mv.speed if target / mv.speed > mv.ramp / 2 else \
+        math.sqrt(2.0 * target * mv.ramp / mv.speed)
+    n_total = int(math.ceil(total_time / sim.dt))
+    ids = sim.walls.panel_ids("wall")
+    k = mv.record_every
+    done = int(round((sim.time - t0) / sim.dt))
+    task = progress.add_task(f"{MODE_TITLES[mv.mode]}", total=n_total, completed=done, status="") \
+        if progress else None
+    since_frame = 0
+    last_checkpoint = _time.perf_counter()
+    while done < n_total:
+        m = min(k, n_total - done)
+        hist_f, hist_m = sim.step(m, record_panels=True)
+        done += m
+        since_frame += m
+        panels = SimpleNamespace(panel_force=hist_f.mean(axis=0), panel_moment=hist_m.mean(axis=0),
+                                 panel_normal=sim.walls.panels.normal, panel_corners=sim.walls.corners(),
+                                 panel_area=sim.walls.areas())
+        load = wall_load(panels, ids, H)
+        disp = _ramp_distance(mv.speed, mv.ramp, sim.time - t0 - 0.5 * m * sim.dt)
+        sample = LoadSample(disp / H, sim.time, sim.step_count,
+                            load_coefficient(load.normal, specimen.porosity, rec, wall),
+                            load.height / H, load.normal / 1e3, load.segment_stress)
+        emit = bool(frame_every) and (since_frame >= frame_every or done >= n_total or done == m)
+        if emit:
+            since_frame = 0
+        if task is not None:
+            progress.update(task, advance=m, status=f"Delta/H {sample.disp_over_H:.4f}  K {sample.K:.3f}")
+        yield sample, (dem3d.frame(sim) if emit else None)
+        # after the consumer has taken this sample, so a checkpoint holds it too
+        if checkpoint is not None and _time.perf_counter() - last_checkpoint > checkpoint_every_s:
+            state = sim.to_arrays()
+            state["movement.t0"] = np.array(t0)
+            checkpoint(state)
+            last_checkpoint = _time.perf_counter()
+
+
+def _shifted(motion: dem3d.Motion, t0: float) -> dem3d.Motion:
+    """The same motion with its clock starting at t0 (schedules are functions of time)."""
+    return dataclasses.replace(motion, angular_speed=lambda t, f=motion.angular_speed: f(t - t0),
+                               velocity=lambda t, f=motion.velocity: f(t - t0))
+
+
+# ----------------------------------------------------------------------------- reference
+#: Tables 1-3 and the specimen description, with their source (workflows/data/)
+REFERENCE = json.loads((Path(__file__).parent / "data" / "nadukuru_2012.json").read_text())
+
+
+def paper_values(mode: str, wall: str) -> dict:
+    """The paper's DEM (Tables 1-2) and Fang & Ishibashi (Table 1) for a mode and wall."""
+    row = REFERENCE.get(wall, {}).get(mode, {})
+    out = {"K": row.get("K"), "resultant_height_over_H": row.get("centroid"),
+           "source": f"Nadukuru & Michalowski (2012) Table {'1' if wall == 'rough' else '2'}"}
+    if "FI_K" in row:
+        out["fang_ishibashi"] = {"K": row["FI_K"], "resultant_height_over_H": row["FI_centroid"],
+                                 "source": "Fang & Ishibashi (1986), interpolated to phi = 39 deg (Table 1)"}
+    return out
+
+
+def theory_rows(mode: str, phi_deg: float, wall_friction: float, gamma: float, H: float,
+                phi_source: str) -> list[dict]:
+    """The theories beside the DEM, as the *normal* load coefficient on the wall
+    (comparable with eq. 6, which uses the normal force): Coulomb Ka cos(delta),
+    Rankine Ka, Jaky K0, and the DSM of the mode (Kh, centroid)."""
+    from analytic import Soil, Wall, coulomb, jaky, rankine
+    from analytic.slices import mode_case, solve
+
+    delta = math.degrees(math.atan(wall_friction))
+    soil, w = Soil(phi_deg, gamma), Wall(H, delta)
+    rows = []
+    for name, prof in (("coulomb", coulomb(soil, w)), ("rankine", rankine(soil, Wall(H))),
+                       ("jaky (at rest)", jaky(soil, Wall(H)))):
+        rows.append({"name": name, "K": prof.Kh, "resultant_height_over_H": prof.height_over_H,
+                     "note": f"phi {phi_deg:.1f}, delta {delta:.1f} deg"})
+    if mode in ("T", "RB", "RT"):
+        res = solve(mode_case(mode, phi_deg=phi_deg, delta_deg=delta, H=H, gamma=gamma))
+        rows.append({"name": "dsm", "K": res.profile.Kh, "resultant_height_over_H": res.resultant_height_over_H,
+                     "note": f"k_l, phi* shapes of eqs. 13/18/19 at phi {phi_deg:.1f}, delta {delta:.1f}"
+                             + ("; curved surface: wallsim reconstruction" if mode == "RT" else "")})
+    else:
+        rows.append({"name": "dsm", "K": None, "resultant_height_over_H": None,
+                     "note": "no DSM preset for the mixed mode"})
+    return rows
+
+
+def steady_disp_over_H(disp: np.ndarray, K: np.ndarray, window: float = 0.05) -> float:
+    """Delta/H beyond which the running mean of K (over ``window`` of the record) stays
+    within max(0.01, 5 %) of its final value: where the load has become steady."""
+    n = len(K)
+    if n < 5:
+        return float("nan")
+    w = max(3, int(window * n))
+    smooth = np.convolve(K, np.ones(w) / w, mode="valid")
+    final = smooth[-1]
+    band = max(0.01, 0.05 * abs(final))
+    outside = np.nonzero(np.abs(smooth - final) > band)[0]
+    k = 0 if outside.size == 0 else int(outside[-1]) + 1
+    return float(disp[min(k + w // 2, n - 1)])
+
+
+# ----------------------------------------------------------------------------- the comparison
+def load_or_prepare(case: NadukuruCase, cache_dir: Path, progress=None) -> tuple[Specimen, bool]:
+    """The settled specimen for (recipe, wall, seed): from ``cache_dir`` if it was made
+    before (so every mode starts from the same state), else prepared and saved there."""
+    key = specimen_key(case)
+    npz, meta = cache_dir / f"{key}.npz", cache_dir / f"{key}.json"
+    if npz.exists() and meta.exists():
+        info = json.loads(meta.read_text())
+        with np.load(npz, allow_pickle=False) as data:
+            state = {k: data[k] for k in data.files}
+        return Specimen(state=state, **info), True
+    spec = prepare_specimen(case, progress)
+    cache_dir.mkdir(parents=True, exist_ok=True)
+    np.savez(npz, **spec.state)
+    meta.write_text(json.dumps({k: (float(v) if isinstance(v, (np.floating, float)) else v)
+                                for k, v in dataclasses.asdict(spec).items() if k != "state"}, indent=1))
+    return spec, False
+
+
+def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_frame=None,
+              frame_every: int = 0, progress=None, checkpoint_path: Path | None = None,
+              checkpoint_every_s: float = 300.0) -> dict:
+    """Move the wall and collect the load history; returns arrays and the active-state
+    figures (K and centroid averaged over the last 10 % of the movement).
+
+    With ``checkpoint_path`` the engine state and the history so far are saved there
+    every ``checkpoint_every_s`` seconds, and an existing checkpoint is resumed from:
+    an interrupted run continues where it stopped instead of starting over."""
+    samples: list[LoadSample] = []
+    resume = None
+    if checkpoint_path is not None and Path(checkpoint_path).exists():
+        with np.load(checkpoint_path, allow_pickle=False) as data:
+            resume = {k: data[k] for k in data.files if not k.startswith("hist.")}
+            h = {k[5:]: data[k] for k in data.files if k.startswith("hist.")}
+        samples = [LoadSample(float(d), float(t), int(st), float(K), float(c), float(nk), seg)
+                   for d, t, st, K, c, nk, seg in zip(h["disp"], h["time"], h["step"], h["K"], h["centroid"],
+                                                      h["normal"], h["seg"])]
+
+    def save(state):
+        hist = {"hist.disp": [s.disp_over_H for s in samples], "hist.time": [s.time for s in samples],
+                "hist.step": [s.step for s in samples], "hist.K": [s.K for s in samples],
+                "hist.centroid": [s.centroid for s in samples], "hist.normal": [s.normal_kN for s in samples],
+                "hist.seg": np.array([s.segment_stress for s in samples])}
+        tmp = Path(checkpoint_path).with_suffix(".tmp.npz")
+        np.savez(tmp, **state, **{k: np.asarray(v) for k, v in hist.items()})
+        tmp.replace(checkpoint_path)          # atomic: an interruption never leaves half a file
+
+    for sample, frame in move_wall(case, specimen, frame_every=frame_every, progress=progress, resume=resume,
+                                   checkpoint=save if checkpoint_path is not None else None,
+                                   checkpoint_every_s=checkpoint_every_s):
+        samples.append(sample)
+        if on_sample is not None:
+            on_sample(sample)
+        if frame is not None and on_frame is not None:
+            on_frame(frame, sample)
+    disp = np.array([s.disp_over_H for s in samples])
+    K = np.array([s.K for s in samples])
+    cen = np.array([s.centroid for s in samples])
+    seg = np.array([s.segment_stress for s in samples])
+    tail = disp >= 0.9 * disp[-1]
+    return {"disp_over_H": disp, "K": K, "centroid": cen, "segment_stress": seg,
+            "time": np.array([s.time for s in samples]), "step": np.array([s.step for s in samples]),
+            "K_active": float(K[tail].mean()), "centroid_active": float(cen[tail].mean()),
+            "segment_stress_active": seg[tail].mean(axis=0),
+            "disp_over_H_steady": steady_disp_over_H(disp, K)}
