@@ -167,6 +167,145 @@ def _add_run_options(p, *, seed_default: int = 1):
     p.add_argument("--out", default="runs", metavar="DIR", help="root of the run folders (runs)")
 
 
+def _add_compare_khosravi(sub):
+    cases = _case_group(sub, "compare", "run a DEM case and set it beside the theories")
+    k = cases.add_parser("khosravi", help="Khosravi et al.'s box: pluviation, at rest, translation to Dis/H = 0.003",
+                         description="2D disks (pymunk) in a 220 x 400 mm box, rough wall of 40 pressure cells. "
+                                     "Example: wallsim compare khosravi --H 0.3 --particles-scale 2 --rrd")
+    k.add_argument("--H", type=_number("H", 0, 0.4, hi_open=False, unit="m"), default=0.3,
+                   help="backfill height [m] (0.3; paper: 0.2, 0.25, 0.3)")
+    k.add_argument("--particles-scale", type=_number("particles-scale", 0, None), default=1.0,
+                   help="multiply every grain diameter (1 = D50 1.16 mm, ~45k disks; 2 = ~11k)")
+    k.add_argument("--rrd", action="store_true", help="write recording.rrd (disks, walls, force chains)")
+    k.add_argument("--no-cache", action="store_true", help="do not reuse or keep the settled specimen")
+    _add_run_options(k)
+    k.set_defaults(func=_cmd_compare_khosravi)
+
+
+def _cmd_compare_khosravi(args) -> int:
+    import dataclasses
+
+    from dem2d.scenarios import KhosraviCase
+    from workflows.config import apply_sets, apply_toml
+    from workflows.khosravi import compare_khosravi
+
+    case = KhosraviCase(H=args.H, particles_scale=args.particles_scale, seed=args.seed)
+    if args.config:
+        case = apply_toml(case, args.config)
+    case = apply_sets(case, args.set)
+    case = dataclasses.replace(case)  # re-validate after overrides
+    result, rf = compare_khosravi(case, root=args.out, rrd=args.rrd, quiet=args.quiet,
+                                  specimen_cache=not args.no_cache)
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        _print_khosravi(result)
+    print(f"run folder: {rf.path}", file=sys.stderr)
+    return 0
+
+
+def _print_khosravi(res: dict) -> None:
+    from rich.table import Table
+
+    d = res["dem"]
+    t = Table(title=f"Khosravi translation case: H = {res['H_m'] * 1e3:.0f} mm, {res['particles']} disks, "
+                    f"seed {res['seed']}", title_justify="left")
+    t.add_column("quantity")
+    t.add_column("DEM", justify="right")
+    t.add_column("compared with", justify="left")
+    t.add_row("phi biaxial (critical state) [deg]", f"{d['phi_biaxial']:.2f}", "paper 20.7")
+    t.add_row("K at rest, upper half", f"{d['K_at_rest_upper_half']:.3f}",
+              f"Jaky 1 - sin(phi_biaxial) = {d['jaky_K0']:.3f} (ratio {d['K_at_rest_upper_half_over_jaky']:.2f})")
+    t.add_row("PS0 at rest / (Jaky at its depth)", f"{d['PS0_at_rest_over_jaky']:.2f}", "< 1: corner arching")
+    t.add_row("active thrust / Rankine", f"{d['active_thrust_over_rankine']:.3f}", "paper: below 1")
+    t.add_row("active below at rest everywhere", str(d["active_below_at_rest_everywhere"]), "")
+    t.add_row("Dis/H steady (90 % of the drop)", f"{d['dis_over_H_steady']:.5f}", "paper 0.0002-0.0005; <= 0.003")
+    t.add_row("floor + walls vertical / weight", f"{d['weight_balance']:.4f}", "1")
+    _console().print(t)
+
+
+def _add_calibrate(sub):
+    tests = _case_group(sub, "calibrate", "calibrate DEM micro-parameters with virtual tests")
+    b = tests.add_parser("biaxial", help="biaxial tests over frictions; the friction giving a target phi",
+                         description="Khosravi et al. section 2: 70 x 200 mm specimen, servo lateral stress, "
+                                     "axial compression. Example: wallsim calibrate biaxial --friction 0.3,0.5,0.7 "
+                                     "--pressures 2,3,5 --particles-scale 2")
+    b.add_argument("--friction", default="0.3,0.5,0.7", help="particle friction coefficients to test (0.3,0.5,0.7)")
+    b.add_argument("--confining", type=_number("confining", 0, None, unit="kPa"), default=4.0,
+                   help="confining stress for the friction sweep [kPa] (4)")
+    b.add_argument("--pressures", default="", help="extra confining stresses [kPa] at the calibrated friction, e.g. 2,3,5")
+    b.add_argument("--target-phi", type=_number("target-phi", 0, 90, unit="deg"), default=20.7,
+                   help="friction angle to calibrate for [deg] (20.7)")
+    b.add_argument("--particles-scale", type=_number("particles-scale", 0, None), default=1.0,
+                   help="multiply every grain diameter (1 = D50 1.16 mm, ~12.7k disks)")
+    b.add_argument("--card", metavar="FILE.json", help="also write the calibration card here")
+    _add_run_options(b)
+    b.set_defaults(func=_cmd_calibrate_biaxial)
+
+
+def _cmd_calibrate_biaxial(args) -> int:
+    import dataclasses
+
+    from dem2d.biaxial import BiaxialCase
+    from workflows.biaxial import CalibrationPlan, calibrate, parse_list
+    from workflows.config import apply_sets, apply_toml
+
+    base = BiaxialCase(particles_scale=args.particles_scale, seed=args.seed, confining=args.confining * 1e3)
+    plan = CalibrationPlan(frictions=parse_list("friction", args.friction),
+                           pressures=parse_list("pressures", args.pressures, 1e3) if args.pressures else (),
+                           target_phi=args.target_phi, case=base)
+    if args.config:
+        plan = apply_toml(plan, args.config)
+    plan = apply_sets(plan, args.set)
+    plan = dataclasses.replace(plan, case=dataclasses.replace(plan.case))
+    result, rf = calibrate(plan, root=args.out, quiet=args.quiet, card=args.card)
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        from rich.table import Table
+        t = Table(title=f"Biaxial calibration (target phi {plan.target_phi:g} deg)", title_justify="left")
+        for col in ("friction", "sigma_3 kPa", "phi peak", "eps peak", "phi cs", "eps to cs", "band deg",
+                    "n", "grains"):
+            t.add_column(col, justify="right")
+        for r in result["tests"]:
+            t.add_row(f"{r['friction']:.3f}", f"{r['confining'] / 1e3:g}", f"{r['phi_peak_deg']:.2f}",
+                      f"{r['eps_peak']:.4f}", f"{r['phi_cs_deg']:.2f}", f"{r['eps_cs']:.4f}",
+                      f"{r['band_angle_deg']:.0f}", f"{1 - r['solid_fraction_0']:.3f}", str(r["n_grains"]))
+        _console().print(t)
+        _console().print(f"calibrated friction for phi = {plan.target_phi:g} deg: {result['calibrated_friction']:.4f}")
+    print(f"run folder: {rf.path}", file=sys.stderr)
+    return 0
+
+
+def _add_validate_khosravi(sub):
+    cases = _case_group(sub, "validate", "full-size validation runs and their reports")
+    k = cases.add_parser("khosravi", help="full-size Khosravi case -> docs/validation/khosravi.{json,md} + figures",
+                         description="H = 0.3 m, D50 = 1.16 mm (~45k disks); about half an hour or more.")
+    k.add_argument("--out-dir", default="docs/validation", help="where the report goes (docs/validation)")
+    k.add_argument("--rrd", action="store_true", help="also keep recording.rrd in the run folder")
+    _add_run_options(k)
+    k.set_defaults(func=_cmd_validate_khosravi)
+
+
+def _cmd_validate_khosravi(args) -> int:
+    import dataclasses
+
+    from dem2d.scenarios import KhosraviCase
+    from workflows.config import apply_sets, apply_toml
+    from workflows.khosravi import validate_khosravi
+
+    case = KhosraviCase(seed=args.seed)
+    if args.config:
+        case = apply_toml(case, args.config)
+    case = dataclasses.replace(apply_sets(case, args.set))
+    report = validate_khosravi(out_dir=args.out_dir, root=args.out, quiet=args.quiet, case=case, rrd=args.rrd)
+    if args.json:
+        print(json.dumps(report, indent=2))
+    else:
+        _console().print(f"wrote {report['paths']['json']} and {report['paths']['md']}")
+    return 0
+
+
 def _add_recording_options(p):
     p.add_argument("--rrd", metavar="FILE", help="recording path (default: recording.rrd in the run folder)")
     p.add_argument("--no-rrd", action="store_true", help="write no recording")
@@ -375,10 +514,13 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_theory(sub)
     _add_dsm(sub)
-    _add_bench(sub)
     _add_compare_nadukuru(sub)
+    _add_compare_khosravi(sub)
     _add_calibrate_triaxial(sub)
+    _add_calibrate(sub)
     _add_validate_nadukuru(sub)
+    _add_validate_khosravi(sub)
+    _add_bench(sub)
     return parser
 
 

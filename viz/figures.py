@@ -51,6 +51,148 @@ def plot_theory_profiles(rows, wall, path, *, dem=None, title: str | None = None
     return _finish(fig, path)
 
 
+# ----------------------------------------------------------------------------- dem2d
+def plot_khosravi_at_rest(z_over_H, sigma_norm, path, *, jaky_K: float, ps0=None,
+                          panels=None, title: str = "") -> Path:
+    """Khosravi et al. Fig. 10 style: at-rest sigma_h/(gamma H) against z/H, reading
+    points (4-panel means) as markers, single panels faint, PS0 marked, Jaky's line
+    K0 z/H for the given K0 (from the biaxial phi)."""
+    fig, ax = plt.subplots(figsize=(5, 6))
+    zz = np.linspace(0, 1, 50)
+    ax.plot(jaky_K * zz, zz, "--", color="C2", label=f"Jaky K0 = {jaky_K:.3f}")
+    if panels is not None:
+        pz, ps = panels
+        ax.plot(ps, pz, ".", color="0.6", ms=4, label="single 10 mm panels")
+    ax.plot(sigma_norm, z_over_H, "ks-", ms=6, label="DEM readings (4 panels)")
+    if ps0 is not None:
+        ax.plot([ps0[1]], [ps0[0]], "r^", ms=9, label="PS0 (bottom panel)")
+    ax.set_ylim(1.02, 0)
+    ax.set_xlim(left=0)
+    ax.set_xlabel("sigma_h / (gamma H)")
+    ax.set_ylabel("z / H")
+    ax.set_title(title or "At rest (Khosravi Fig. 10)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return _finish(fig, path)
+
+
+def plot_khosravi_vs_displacement(dis_over_H, series: dict, path, *, title: str = "",
+                                  steady: float | None = None) -> Path:
+    """Khosravi et al. Fig. 12 style: sigma_h/(gamma H) of each reading point against
+    Dis/H. ``series``: label -> (n,) values."""
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for k, (label, vals) in enumerate(series.items()):
+        ls = "--" if label.startswith("PS0") else "-"
+        ax.plot(dis_over_H, vals, ls, color=f"C{k % 10}", label=label)
+    if steady is not None and np.isfinite(steady):
+        ax.axvline(steady, color="k", lw=0.8, ls=":", label=f"steady at Dis/H = {steady:.4f}")
+    ax.set_xlabel("Dis / H")
+    ax.set_ylabel("sigma_h / (gamma H)")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.set_title(title or "Lateral pressure against wall displacement (Khosravi Fig. 12)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    return _finish(fig, path)
+
+
+def plot_khosravi_profiles(z_over_H, sigma_rest, sigma_active, theories, path, *, jaky_K: float,
+                           gamma: float, H: float, title: str = "") -> Path:
+    """Khosravi et al. Fig. 13 style: at rest and active (Dis/H = 0.003) readings against
+    z/H with Jaky (at rest) and Rankine, Handy, Paik-Salgado, Khosravi (active).
+    ``theories``: Profiles (sigma_h in Pa, z in m), normalised here by gamma H."""
+    fig, axes = plt.subplots(1, 2, figsize=(10, 6), sharey=True)
+    zz = np.linspace(0, 1, 50)
+    ax = axes[0]
+    ax.plot(jaky_K * zz, zz, "--", color="C2", label=f"Jaky (K0 = {jaky_K:.3f})")
+    ax.plot(sigma_rest, z_over_H, "ks-", label="DEM at rest")
+    ax.set_title("(a) at rest")
+    ax = axes[1]
+    for p in theories:
+        ls, c = _STYLE.get(p.method, ("-", None))
+        label = p.method + (" (reconstruction)" if p.status != "verified" else "")
+        ax.plot(p.sigma_h / (gamma * H), p.z / H, ls, color=c, label=label)
+    ax.plot(sigma_active, z_over_H, "ko-", label="DEM Dis/H = 0.003")
+    ax.set_title("(b) active")
+    for ax in axes:
+        ax.set_ylim(1.02, 0)
+        ax.set_xlim(left=0)
+        ax.set_xlabel("sigma_h / (gamma H)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("z / H")
+    if title:
+        fig.suptitle(title)
+    return _finish(fig, path)
+
+
+def plot_biaxial(curves: dict, path, *, title: str = "") -> Path:
+    """Khosravi et al. Fig. 4 style: deviatoric stress (sigma_1 - sigma_3) [kPa] and the
+    mobilised friction angle against axial strain, one curve per test.
+    ``curves``: label -> (eps_axial, sigma_1 [Pa], sigma_3 [Pa], eps_vol)."""
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    for k, (label, (eps, s1, s3, ev)) in enumerate(curves.items()):
+        eps, s1, s3 = map(np.asarray, (eps, s1, s3))
+        c = f"C{k % 10}"
+        axes[0].plot(eps * 100, (s1 - s3) / 1e3, color=c, lw=0.8, label=label)
+        phi = np.degrees(np.arcsin(np.clip((s1 - s3) / (s1 + s3), -1, 1)))
+        axes[1].plot(eps * 100, phi, color=c, lw=0.8, label=label)
+        axes[2].plot(eps * 100, np.asarray(ev) * 100, color=c, lw=0.8, label=label)
+    axes[0].set_ylabel("sigma_1 - sigma_3 [kPa]")
+    axes[1].set_ylabel("mobilised phi [deg]")
+    axes[2].set_ylabel("volumetric strain [%] (compression +)")
+    for ax in axes:
+        ax.set_xlabel("axial strain [%]")
+        ax.grid(alpha=0.3)
+    axes[1].legend(fontsize=7)
+    if title:
+        fig.suptitle(title)
+    return _finish(fig, path)
+
+
+def plot_series(x, ys: dict, path, *, xlabel: str, ylabel: str, title: str = "",
+                logx: bool = False) -> Path:
+    """A plain line plot of several series against one x (solver-settings figures)."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for k, (label, y) in enumerate(ys.items()):
+        ax.plot(x if not isinstance(y, tuple) else y[0], y if not isinstance(y, tuple) else y[1],
+                "o-", color=f"C{k % 10}", label=label)
+    if logx:
+        ax.set_xscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return _finish(fig, path)
+
+
+def plot_khosravi_backfilling(layers, path, *, gamma: float, H: float, group: int = 4,
+                              panel_height: float = 0.01, title: str = "") -> Path:
+    """Khosravi et al. Fig. 9 style: lateral pressure on the wall after each layer of the
+    pluviation, sigma_h/(gamma H) against height above the base / H, 4-panel readings.
+    ``layers``: list of (layer, surface [m], (p,) panel sigma [Pa], panel 0 at the bottom)."""
+    fig, ax = plt.subplots(figsize=(5, 6))
+    n = len(layers)
+    for k, (layer, surf, sig) in enumerate(layers):
+        sig = np.asarray(sig, float)
+        starts = np.arange(0, len(sig) - group + 1, group)
+        tops = (starts + group) * panel_height
+        keep = tops <= surf + 1e-9
+        means = np.array([sig[s:s + group].mean() for s in starts[keep]])
+        mids = (starts[keep] + group / 2) * panel_height
+        ax.plot(means / (gamma * H), mids / H, "o-", ms=3, color=plt.cm.viridis(k / max(n - 1, 1)),
+                label=f"layer {layer} (surface {surf * 1e3:.0f} mm)" if k in (0, n - 1) or k % 3 == 0 else None)
+    ax.set_xlim(left=0)
+    ax.set_ylim(0, 1.05)
+    ax.set_xlabel("sigma_h / (gamma H)")
+    ax.set_ylabel("height above the base / H")
+    ax.set_title(title or "During backfilling (Khosravi Fig. 9)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    return _finish(fig, path)
+
+
 def plot_dsm_modes(results: dict, presets: dict, path) -> Path:
     """Nadukuru & Michalowski Fig. 8: (a) k_l(d), (b) phi*(d)/phi, (c) wall stress
     sigma_n / (gamma H) against d/H for each mode; the paper's Table 3 centroids marked."""

@@ -1,0 +1,411 @@
+"""Numerical biaxial test (Khosravi et al. §2, Figs. 2-4): the friction calibration.
+
+Specimen: disks of the backfill's grading in a rectangle of about 70 mm x 200 mm,
+no gravity, frictionless rigid walls:
+
+* ``bottom`` and ``left``: fixed;
+* ``top``: a kinematic platen; a velocity servo during preparation, then constant
+  axial strain rate;
+* ``right``: a dynamic, non-rotating piston pushed with F = sigma_3 x h(t) (h the current
+  specimen height) -- a stress-controlled boundary. An impulse solver has no contact
+  stiffness, so a PFC-style stiffness-based wall servo has nothing to act on; a piston
+  with an applied force is the exact stress boundary for rigid grains.
+
+Preparation: a loose cloud is compacted isotropically to sigma_0 = sigma_3 with the
+grain friction set to ``prep_friction`` (lower = denser; used to match the porosity of
+the pluviated backfill). Then friction is set to ``friction`` and the top platen moves
+down at a constant strain rate (quasi-static: inertial number I = rate d50 /
+sqrt(sigma_3 / rho_s) ~ 1e-4 at the defaults).
+
+Results (2D, per metre): sigma_1 = F_top / w, sigma_3 = F_right / h, axial strain
+eps_1 = (h_0 - h) / h_0, volumetric strain eps_v = 1 - A / A_0 (compression positive),
+mobilised friction sin(phi) = (sigma_1 - sigma_3) / (sigma_1 + sigma_3). The shear band
+angle from the major principal plane (horizontal) follows from the incremental strain
+field (``shear_band_angle``); Khosravi et al. read beta ~ 55 deg and
+beta = 45 + phi/2 -> phi ~ 20 deg.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Iterator, NamedTuple
+
+import numpy as np
+import pymunk
+
+from analytic.errors import InvalidParameter
+from analytic.inputs import require_number
+
+from .build import Grains, add_disks, friction_split, new_space
+from .grading import Grading
+from .params import Material, Solver
+from .pluviation import cloud
+from .sim import Sim
+from .walls import PANEL_TYPE_BASE, panel_wall
+
+RHO_WATER = 1000.0
+
+
+@dataclass(frozen=True)
+class BiaxialCase:
+    """Biaxial test settings (module docstring).
+
+    width, height:    target specimen size after compaction [m] (sizes the grain count)
+    d50, cu, particles_scale, gs: grading and grain density (as the backfill)
+    friction:         particle-particle coefficient during shearing [-]
+    prep_friction:    particle-particle coefficient during compaction [-]
+    confining:        sigma_3 [Pa] (Khosravi: 4 kPa; also 2, 3, 5)
+    target_fraction:  expected solid fraction after compaction (sizes the grain count) [-]
+    strain_rate:      axial strain rate [1/s]
+    max_strain:       end of the test, axial strain [-]
+    piston_mass_fraction: mass of the lateral piston / mass of the specimen [-]
+    compaction_rate:  piston speed limit / current specimen size [1/s]
+    sample_every:     steps between samples of the stresses
+    seed:             random seed
+    """
+
+    width: float = 0.07
+    height: float = 0.20
+    d50: float = 1.16e-3
+    cu: float = 1.55
+    particles_scale: float = 1.0
+    gs: float = 2.65
+    friction: float = 0.5
+    prep_friction: float = 0.25
+    confining: float = 4000.0
+    target_fraction: float = 0.82
+    strain_rate: float = 0.2
+    max_strain: float = 0.10
+    piston_mass_fraction: float = 0.05
+    compaction_rate: float = 1.5
+    sample_every: int = 50
+    seed: int = 1
+    solver: Solver = field(default_factory=lambda: Solver(dt=2e-4, iterations=10))
+
+    def __post_init__(self):
+        require_number("width", self.width, 0.0, None, unit="m")
+        require_number("height", self.height, 0.0, None, unit="m")
+        require_number("friction", self.friction, 0.0, None, lo_open=False)
+        require_number("prep_friction", self.prep_friction, 0.0, None, lo_open=False)
+        require_number("confining", self.confining, 0.0, None, unit="Pa")
+        require_number("strain_rate", self.strain_rate, 0.0, None, unit="1/s")
+        require_number("max_strain", self.max_strain, 0.0, 0.5)
+        if not (isinstance(self.sample_every, int) and self.sample_every >= 1):
+            raise InvalidParameter("sample_every", self.sample_every, "an integer >= 1")
+
+    @property
+    def grading(self) -> Grading:
+        return Grading(self.d50, self.cu).scaled(self.particles_scale)
+
+    def material(self, friction: float) -> Material:
+        return Material(density=self.gs * RHO_WATER, friction=friction, wall_friction=0.0)
+
+    def inertial_number(self) -> float:
+        """I = strain_rate d50 / sqrt(sigma_3 / rho_s) [-] (quasi-static below ~1e-3)."""
+        return self.strain_rate * self.grading.d50 / math.sqrt(self.confining / (self.gs * RHO_WATER))
+
+
+class BiaxialSample(NamedTuple):
+    """One sample: stage ("compact"/"shear"), time [s], axial strain [-], volumetric
+    strain [-], sigma_1, sigma_3 [Pa], width w and height h [m], solid fraction [-],
+    mobilised friction angle [deg]."""
+
+    stage: str
+    time: float
+    eps_axial: float
+    eps_vol: float
+    sigma_1: float
+    sigma_3: float
+    width: float
+    height: float
+    solid_fraction: float
+    phi_mob: float
+
+
+@dataclass(frozen=True)
+class BiaxialResult:
+    """Summary of one biaxial test.
+
+    phi_peak_deg, eps_peak:   largest mobilised friction angle (smoothed) and its strain
+    phi_cs_deg:               critical state: mean phi over the last third of the strain
+    eps_cs:                   strain at which sin(phi) first reaches 95 % of sin(phi_cs)
+    band_angle_deg:           shear band angle from the major principal plane
+    phi_from_band_deg:        2 (beta - 45), the paper's reading of the band angle
+    solid_fraction_0:         after compaction; porosity = 1 - solid_fraction_0
+    n_grains, dilatancy_deg:  grain count; mean dilatancy angle over the last third
+    """
+
+    phi_peak_deg: float
+    eps_peak: float
+    phi_cs_deg: float
+    eps_cs: float
+    band_angle_deg: float
+    phi_from_band_deg: float
+    solid_fraction_0: float
+    n_grains: int
+    dilatancy_deg: float
+    confining: float
+    friction: float
+
+
+class BiaxialTest:
+    """Builds the specimen and runs preparation and shearing as generators.
+
+    Usage: ``t = BiaxialTest(case); for s in t.prepare(): ...; for s in t.shear(): ...;
+    t.result()``. ``t.sim`` is the model; ``t.samples`` the shear samples.
+    """
+
+    def __init__(self, case: BiaxialCase):
+        self.case = case
+        gr = case.grading
+        n = int(round(case.width * case.height * case.target_fraction / gr.mean_area()))
+        f_cloud = 0.5
+        expand = math.sqrt(case.target_fraction / f_cloud)
+        w0, h0 = case.width * expand, case.height * expand
+        space = new_space(case.solver, gravity=(0.0, 0.0), r_min=gr.d_min / 2, d_max=gr.d_max,
+                          expected_shapes=n)
+        big_w, big_h = 2 * w0, 2 * h0
+        m = 0.02 * big_w
+        t = PANEL_TYPE_BASE
+        bottom = panel_wall(space, "bottom", (-m, 0.0), (big_w, 0.0), 1, friction=0.0,
+                            into=(0.0, 1.0), first_type=t)
+        left = panel_wall(space, "left", (0.0, -m), (0.0, big_h), 1, friction=0.0,
+                          into=(1.0, 0.0), first_type=t + 1)
+        rng = np.random.default_rng(case.seed)
+        mat = case.material(case.prep_friction)
+        centres, radii = cloud(n, gr, rng, 0.0, w0 * 0.999, 0.0, f_cloud)
+        # the cloud may be taller than h0 if the lattice is coarser than planned
+        h_cloud = float((centres[:, 1] + radii).max())
+        grains = Grains()
+        add_disks(space, grains, centres, radii, mat, rng)
+        self.mass = float(sum(b.mass for b in grains.bodies))
+        piston = self.mass * case.piston_mass_fraction
+        right = panel_wall(space, "right", (w0, -m), (w0, big_h), 1, friction=0.0,
+                           into=(0.0, 0.0), pivot=(w0, 0.0), first_type=t + 3, mass=piston)
+        h_top = max(h0, h_cloud + 1e-4)
+        top = panel_wall(space, "top", (-m, h_top), (big_w, h_top), 1, friction=0.0,
+                         into=(0.0, 0.0), pivot=(0.0, h_top), first_type=t + 2, mass=piston)
+        self.sim = Sim(space=space, grains=grains,
+                       walls={"bottom": bottom, "left": left, "top": top, "right": right},
+                       solver=case.solver, rng=rng)
+        self.sim.meta.update(r_min=gr.d_min / 2, d_max=gr.d_max, case="biaxial")
+        self.solid_area = float(np.sum(np.pi * grains.circle_radius**2))
+        self.samples: list[BiaxialSample] = []
+        self._h0 = None
+        self._a0 = None
+        self._pos_marks: list[tuple[float, np.ndarray]] = []
+        self.sim.hooks.append(self._push_piston)
+
+    # ------------------------------------------------------------------ geometry
+    def width(self) -> float:
+        return float(self.sim.walls["right"].bodies[0].position.x)
+
+    def height(self) -> float:
+        return float(self.sim.walls["top"].bodies[0].position.y)
+
+    def _push_piston(self, sim: Sim) -> None:
+        """Stress-controlled pistons: F = -sigma_3 h (x) on the right piston and, while
+        the top is still a piston (compaction), F = -sigma_0 w (y) on the top. Speeds
+        are capped at ``compaction_rate`` times the current width / height, so both
+        directions compact at the same strain rate and loose grains are not swept."""
+        w, h = self.width(), self.height()
+        body = sim.walls["right"].bodies[0]
+        body.force = (-self.case.confining * h, 0.0)
+        vmax = self.case.compaction_rate * w
+        body.velocity = (min(max(body.velocity.x, -vmax), vmax), 0.0)
+        top = sim.walls["top"].bodies[0]
+        if top.body_type == pymunk.Body.DYNAMIC:
+            top.force = (0.0, -self.case.confining * w)
+            vmax = self.case.compaction_rate * h
+            top.velocity = (0.0, min(max(top.velocity.y, -vmax), vmax))
+
+    def _stresses(self) -> tuple[float, float]:
+        p = self.sim.probe
+        f_top = p.force("top")[0]
+        f_right = p.force("right")[0]
+        return float(f_top[1]) / self.width(), float(f_right[0]) / self.height()
+
+    def _sample(self, stage: str) -> BiaxialSample:
+        s1, s3 = self._stresses()
+        w, h = self.width(), self.height()
+        area = w * h
+        eps_a = 0.0 if self._h0 is None else (self._h0 - h) / self._h0
+        eps_v = 0.0 if self._a0 is None else 1.0 - area / self._a0
+        sphi = (s1 - s3) / (s1 + s3) if (s1 + s3) > 0 else 0.0
+        return BiaxialSample(stage, self.sim.time, eps_a, eps_v, s1, s3, w, h,
+                             self.solid_area / area, math.degrees(math.asin(max(min(sphi, 1.0), -1.0))))
+
+    # ------------------------------------------------------------------ stages
+    def prepare(self, max_time: float = 2.0, tolerance: float = 0.05) -> Iterator[BiaxialSample]:
+        """Isotropic compaction to sigma_0 = confining with ``prep_friction``: the top and
+        right pistons push with sigma_0 times the current width / height. Done when both
+        measured stresses are within ``tolerance`` of sigma_0 and both pistons move
+        at strain rates below 1 % of ``compaction_rate`` for 5 consecutive samples."""
+        c, sim = self.case, self.sim
+        probe = sim.probe
+        ok = 0
+        probe.start()
+        while sim.time < max_time:
+            probe.reset()
+            sim.run(c.sample_every)
+            s = self._sample("compact")
+            yield s
+            r_top = abs(sim.walls["top"].bodies[0].velocity.y) / s.height
+            r_right = abs(sim.walls["right"].bodies[0].velocity.x) / s.width
+            good = (abs(s.sigma_1 / c.confining - 1) < tolerance and abs(s.sigma_3 / c.confining - 1) < tolerance
+                    and max(r_top, r_right) < 0.01 * c.compaction_rate)
+            ok = ok + 1 if good else 0
+            if ok >= 5:
+                break
+        probe.stop()
+
+    def shear(self) -> Iterator[BiaxialSample]:
+        """Set the shearing friction, then compress axially at ``strain_rate`` to
+        ``max_strain`` while the piston holds sigma_3."""
+        c, sim = self.case, self.sim
+        f_grain, _ = friction_split(c.friction, 0.0)
+        for b in sim.grains.bodies:
+            for sh in b.shapes:
+                sh.friction = f_grain
+        top = sim.walls["top"].bodies[0]
+        top.body_type = pymunk.Body.KINEMATIC  # from piston to strain-controlled platen
+        self._h0 = self.height()
+        self._a0 = self.width() * self._h0
+        v = c.strain_rate * self._h0
+        sim.walls["top"].set_motion((0.0, -v), 0.0)
+        probe = sim.probe
+        probe.start()
+        marks = np.linspace(0.0, c.max_strain, 11)
+        k = 0
+        while True:
+            probe.reset()
+            sim.run(c.sample_every)
+            s = self._sample("shear")
+            self.samples.append(s)
+            while k < len(marks) and s.eps_axial >= marks[k]:
+                self._pos_marks.append((s.eps_axial, sim.state().position.copy()))
+                k += 1
+            yield s
+            if s.eps_axial >= c.max_strain:
+                break
+        sim.walls["top"].set_motion((0.0, 0.0), 0.0)
+        probe.stop()
+
+    # ------------------------------------------------------------------ results
+    def result(self) -> BiaxialResult:
+        """Summarise the shear samples (``BiaxialResult``)."""
+        if not self.samples:
+            raise RuntimeError("run shear() first")
+        return summarize(self.samples, self._pos_marks, len(self.sim.grains), self.case,
+                         self.sim.grains.circle_radius)
+
+
+def _smooth(y: np.ndarray, k: int) -> np.ndarray:
+    if k <= 1 or len(y) < k:
+        return y
+    ker = np.ones(k) / k
+    pad = np.concatenate([np.full(k // 2, y[0]), y, np.full(k - 1 - k // 2, y[-1])])
+    return np.convolve(pad, ker, mode="valid")
+
+
+def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialCase,
+              radii: np.ndarray) -> BiaxialResult:
+    """Peak and critical-state friction angles, strains, dilatancy and band angle."""
+    eps = np.array([s.eps_axial for s in samples])
+    s1 = np.array([s.sigma_1 for s in samples])
+    s3 = np.array([s.sigma_3 for s in samples])
+    ev = np.array([s.eps_vol for s in samples])
+    # smooth the stresses over ~0.5 % strain before taking ratios (impulse noise)
+    k = max(1, int(round(0.005 / max(np.median(np.diff(eps)), 1e-12))))
+    s1s, s3s = _smooth(s1, k), _smooth(s3, k)
+    sphi = (s1s - s3s) / (s1s + s3s)
+    phi = np.degrees(np.arcsin(np.clip(sphi, -1, 1)))
+    ipk = int(np.argmax(phi))
+    last = eps >= eps[-1] * 2.0 / 3.0
+    sphi_cs = float(np.mean(((s1 - s3) / (s1 + s3))[last]))
+    phi_cs = math.degrees(math.asin(sphi_cs))
+    reach = np.nonzero(sphi >= 0.95 * sphi_cs)[0]
+    eps_cs = float(eps[reach[0]]) if len(reach) else float("nan")
+    # dilatancy: sin(psi) = -d eps_v / d gamma, gamma = eps_1 - eps_3 (2D, eps_v = eps_1 + eps_3)
+    e3 = ev - eps
+    gam = eps - e3
+    if np.sum(last) > 3:
+        dv = np.polyfit(gam[last], ev[last], 1)[0]
+        psi = math.degrees(math.asin(float(np.clip(-dv, -1, 1))))
+    else:
+        psi = float("nan")
+    band = float("nan")
+    if len(marks) >= 5:
+        # the post-peak part of the test: from 40 % of the final strain to the end
+        (e_a, xa), (e_b, xb) = marks[len(marks) * 2 // 5], marks[-1]
+        band = shear_band_angle(xa, xb, cell=3 * case.grading.d50)
+    return BiaxialResult(phi_peak_deg=float(phi[ipk]), eps_peak=float(eps[ipk]), phi_cs_deg=phi_cs,
+                         eps_cs=eps_cs, band_angle_deg=band,
+                         phi_from_band_deg=2.0 * (band - 45.0) if math.isfinite(band) else float("nan"),
+                         solid_fraction_0=samples[0].solid_fraction, n_grains=n_grains,
+                         dilatancy_deg=psi, confining=case.confining, friction=case.friction)
+
+
+def strain_field(x0: np.ndarray, x1: np.ndarray, cell: float):
+    """Incremental deviatoric (maximum shear) strain on a square grid of ``cell`` [m]
+    from grain displacements x1 - x0: in each cell a least-squares affine fit
+    u = G x + c over the grains inside (at least 6); gamma = sqrt(((G00 - G11)/2)^2 +
+    ((G01 + G10)/2)^2). Returns (cell centres (k,2), gamma (k,))."""
+    u = x1 - x0
+    lo = x0.min(0)
+    ij = np.floor((x0 - lo) / cell).astype(int)
+    nx, ny = ij.max(0) + 1
+    key = ij[:, 0] * ny + ij[:, 1]
+    order = np.argsort(key, kind="stable")
+    key_s = key[order]
+    starts = np.searchsorted(key_s, np.arange(nx * ny))
+    ends = np.searchsorted(key_s, np.arange(nx * ny), side="right")
+    centres, gam = [], []
+    for c in range(nx * ny):
+        idx = order[starts[c]:ends[c]]
+        if len(idx) < 6:
+            continue
+        X = np.column_stack([x0[idx] - x0[idx].mean(0), np.ones(len(idx))])
+        G, *_ = np.linalg.lstsq(X, u[idx], rcond=None)
+        g = G[:2].T  # du_i/dx_j
+        e = 0.5 * (g + g.T)
+        gam.append(math.hypot((e[0, 0] - e[1, 1]) / 2.0, e[0, 1]))
+        centres.append(x0[idx].mean(0))
+    return np.array(centres), np.array(gam)
+
+
+def shear_band_angle(x0: np.ndarray, x1: np.ndarray, cell: float) -> float:
+    """Angle [deg] between the dominant shear band and the horizontal (the major
+    principal plane when sigma_1 is vertical), from 0 to 90.
+
+    Cells within 1.5 cells of the specimen's edge are left out (wall effects). A
+    discrete Radon transform of the incremental shear-strain map: for each trial
+    band direction theta, cells are binned by their distance from a line of that
+    direction (bins of one cell); the direction whose best bin collects the largest mean
+    strain is the band. Both inclinations (+theta, 180 - theta) are tried."""
+    c, g = strain_field(x0, x1, cell)
+    # leave out a band of 1.5 cells along the walls (platen and piston effects)
+    lo, hi = x0.min(0) + 1.5 * cell, x0.max(0) - 1.5 * cell
+    inner = np.all((c >= lo) & (c <= hi), axis=1)
+    c, g = c[inner], g[inner]
+    if len(g) < 10:
+        return float("nan")
+    w = g - np.median(g)
+    w = np.clip(w, 0, None)
+    best, best_t = -1.0, float("nan")
+    for t in np.arange(1.0, 180.0, 1.0):
+        th = math.radians(t)
+        nrm = np.array([-math.sin(th), math.cos(th)])
+        s = c @ nrm
+        b = np.floor((s - s.min()) / cell).astype(int)
+        sums = np.bincount(b, weights=w)
+        cnt = np.bincount(b)
+        ok = cnt >= max(3, 0.3 * cnt.max())
+        if not np.any(ok):
+            continue
+        val = float((sums[ok] / cnt[ok]).max())
+        if val > best:
+            best, best_t = val, t
+    a = best_t if best_t <= 90 else 180.0 - best_t
+    return float(a)

@@ -1,0 +1,218 @@
+"""Layered pluviation: drop the backfill in layers from a set height, let each settle.
+
+Khosravi et al. (§3.1, Fig. 5) fill the box "layer by layer ... where the soil particles
+dropped under the gravity force"; air pluviation gives a uniform density when the drop
+height and the layer thickness are constant. Here each layer is a loose cloud of grains
+(areal solid fraction ``cloud_fraction``, zero velocity) whose bottom starts
+``drop_height`` above the current surface; it falls, lands and is left to settle until
+the unbalanced-force ratio and the kinetic energy per grain are small, then the next
+layer is released. A layer holds the number of grains that fills ``layer_thickness`` at
+the expected deposit fraction ``target_fraction`` (the last layer is cut to reach H).
+
+The layer loop is a generator: it yields after every check (``check_every`` steps)
+so the caller can draw frames, show progress or stop.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Iterator, NamedTuple
+
+import numpy as np
+
+from analytic.errors import InvalidParameter
+from analytic.inputs import require_number
+
+from .build import add_disks
+from .grading import Grading
+from .measure import kinetic_energy, unbalanced_force_ratio
+from .params import Material
+from .sim import Sim
+
+
+@dataclass(frozen=True)
+class Pluviation:
+    """Layered pluviation settings.
+
+    layer_thickness:  deposit per layer [m]
+    drop_height:      gap between the surface and the bottom of the falling cloud [m]
+    cloud_fraction:   areal solid fraction of the released cloud [-] (at most ~0.5)
+    target_fraction:  expected solid fraction of the deposit, sizes each layer [-]
+    damping:          pymunk ``space.damping`` while filling: fraction of velocity left
+                      after 1 s (1 = none). Viscous, so it also caps the fall speed at
+                      g tau, tau = -1 / ln(damping). Reset to 1 when the filling ends.
+    settle_ratio:     a layer is settled when the unbalanced-force ratio of its grains
+                      is below this [-] ...
+    settle_ke:        ... and their kinetic energy per grain is below this times m g d50
+    final_ratio:      the same criterion for the whole deposit after the last layer [-]
+    min_layer_time:   never release the next layer earlier than this [s]
+    max_layer_time:   release the next layer after this even if not settled [s]
+    final_settle_time: at most this long for the last layer [s]
+    check_every:      steps between settling checks
+    """
+
+    layer_thickness: float = 0.02
+    drop_height: float = 0.005
+    cloud_fraction: float = 0.5
+    target_fraction: float = 0.82
+    damping: float = 1.0
+    settle_ratio: float = 0.05
+    settle_ke: float = 1e-3
+    final_ratio: float = 0.01
+    min_layer_time: float = 0.03
+    max_layer_time: float = 0.4
+    final_settle_time: float = 1.0
+    check_every: int = 50
+
+    def __post_init__(self):
+        require_number("layer_thickness", self.layer_thickness, 0.0, None, unit="m")
+        require_number("drop_height", self.drop_height, 0.0, None, lo_open=False, unit="m")
+        require_number("cloud_fraction", self.cloud_fraction, 0.0, 0.5, hi_open=False, unit="-")
+        require_number("target_fraction", self.target_fraction, 0.0, 0.907, unit="-")
+        require_number("damping", self.damping, 0.0, 1.0, hi_open=False)
+        require_number("settle_ratio", self.settle_ratio, 0.0, None)
+        require_number("settle_ke", self.settle_ke, 0.0, None)
+        require_number("final_ratio", self.final_ratio, 0.0, None)
+        if not (isinstance(self.check_every, int) and self.check_every >= 1):
+            raise InvalidParameter("check_every", self.check_every, "an integer >= 1")
+
+
+class LayerStatus(NamedTuple):
+    """Progress of the pluviation: layer (1-based), of n_layers, grains so far, surface
+    height [m], unbalanced-force ratio [-], KE per grain / (m g d50) [-], settled flag,
+    and done: the last status of this layer (settled, or its time limit reached)."""
+
+    layer: int
+    n_layers: int
+    n_grains: int
+    surface: float
+    ratio: float
+    ke: float
+    settled: bool
+    done: bool = False
+
+
+def cloud(n: int, grading: Grading, rng: np.random.Generator, x0: float, x1: float,
+          y0: float, fraction: float) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` non-overlapping disks (centres (n,2), radii (n,)) filling the strip x0..x1
+    upwards from y0 in rows, at an areal solid fraction close to ``fraction``.
+
+    Grains are drawn from the grading in random order and laid along each row with a
+    clear gap g between neighbours; a row is as tall as its largest grain plus g. The gap
+    is chosen so that mean area / ((E[d] + g)(d_max + g)) = fraction (rows are about
+    d_max + g tall), then each grain gets a random vertical jitter inside its row and
+    each row a random start, so the cloud has no lattice."""
+    d = grading.sample(n, rng)
+    a, b = grading.d_min, grading.d_max
+    mean_d = a * b / (b - a) * math.log(b / a) if b > a else a
+    A = grading.mean_area()
+    # solve A / ((mean_d + g)(b + g)) = fraction for g >= 0
+    s = mean_d + b
+    disc = s * s - 4 * (mean_d * b - A / fraction)
+    g = max((-s + math.sqrt(max(disc, 0.0))) / 2.0, 0.02 * b)
+    centres = np.empty((n, 2))
+    width = x1 - x0
+    if width < b + g:
+        raise InvalidParameter("box width", width, f"> {b + g:g} m", "narrower than one grain")
+    k, y = 0, y0
+    while k < n:
+        x = x0 + rng.uniform(0.0, g)
+        row = []
+        while k + len(row) < n:
+            di = d[k + len(row)]
+            if x + di > x1:
+                break
+            row.append(x + di / 2)
+            x += di + g
+        m = len(row)
+        dr = d[k:k + m]
+        h = dr.max() + g
+        centres[k:k + m, 0] = row
+        centres[k:k + m, 1] = y + dr / 2 + rng.uniform(0.0, 1.0, m) * (h - g - dr)
+        k += m
+        y += h
+    return centres, d / 2
+
+
+def surface_height(position: np.ndarray, radius: np.ndarray, settled: np.ndarray,
+                   x0: float, x1: float, bins: int = 10) -> float:
+    """Height of the deposit's surface [m]: the mean over ``bins`` vertical strips of the
+    highest grain top among settled grains."""
+    if not np.any(settled):
+        return 0.0
+    p, r = position[settled], radius[settled]
+    top = p[:, 1] + r
+    k = np.clip(((p[:, 0] - x0) / (x1 - x0) * bins).astype(int), 0, bins - 1)
+    tops = np.full(bins, np.nan)
+    for b in range(bins):
+        m = k == b
+        if np.any(m):
+            tops[b] = top[m].max()
+    return float(np.nanmean(tops))
+
+
+def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: float,
+             floor: float, height: float, settings: Pluviation,
+             g: float = 9.81) -> Iterator[LayerStatus]:
+    """Fill the strip x0..x1 above ``floor`` [m] to ``height`` [m] of deposit, layer by
+    layer (module docstring). Grains go into ``sim`` (disks, ``material``); the random
+    draws come from ``sim.rng``. Yields a ``LayerStatus`` after every settling check;
+    the ratio and kinetic energy are those of the newest layer, and after the last
+    layer those of the whole deposit."""
+    p = settings
+    width = x1 - x0
+    n_layers = max(1, math.ceil(height / p.layer_thickness - 1e-9))
+    margin = 0.0005 * width
+    deposited_area = float(np.sum(np.pi * sim.grains.circle_radius**2))  # > 0 when resumed
+    d50 = grading.d50
+    sim.space.damping = p.damping
+    try:
+        for layer in range(1, n_layers + 1):
+            if len(sim.grains):
+                st = sim.state()
+                surf = surface_height(st.position, sim.grains.circle_radius,
+                                      np.ones(len(sim.grains), bool), x0, x1)
+            else:
+                surf = floor
+            # grains to add: fill up to the goal at the fraction the deposit has so far
+            # (the target fraction until there is a deposit to measure)
+            frac = p.target_fraction
+            if surf - floor > 4 * p.layer_thickness / 2:
+                frac = min(max(deposited_area / (width * (surf - floor)), 0.5), 0.9)
+            goal = min(layer * p.layer_thickness, height)
+            if layer < n_layers and goal <= surf - floor:
+                continue  # resumed from a checkpoint: this layer is already there
+            area_needed = (goal - max(surf - floor, 0.0)) * width * frac
+            n = max(int(round(area_needed / grading.mean_area())), 0)
+            first = len(sim.grains)
+            if n:
+                centres, radii = cloud(n, grading, sim.rng, x0 + margin, x1 - margin,
+                                       max(surf, floor) + p.drop_height, p.cloud_fraction)
+                add_disks(sim.space, sim.grains, centres, radii, material, sim.rng)
+                deposited_area += float(np.sum(np.pi * radii**2))
+            last = layer == n_layers
+            mass = sim.masses()
+            sel = slice(0, None) if last else slice(first, None)
+            m_sel = mass[sel]
+            scale = float(np.sum(m_sel)) * g * d50
+            t_start = sim.time
+            limit = p.final_settle_time if last else p.max_layer_time
+            while True:
+                sim.run(p.check_every - 1)
+                st_a = sim.state()
+                sim.run(1)
+                st = sim.state()
+                ratio = unbalanced_force_ratio(st_a.velocity[sel], st.velocity[sel], sim.dt, m_sel, g)
+                ke = kinetic_energy(st.velocity[sel], m_sel) / scale
+                elapsed = sim.time - t_start
+                crit = p.final_ratio if last else p.settle_ratio
+                settled = elapsed >= p.min_layer_time and ratio < crit and ke < p.settle_ke
+                surf = surface_height(st.position, sim.grains.circle_radius,
+                                      np.linalg.norm(st.velocity, axis=1) < 0.05, x0, x1)
+                done = settled or elapsed >= limit
+                yield LayerStatus(layer, n_layers, len(sim.grains), surf, ratio, ke, settled, done)
+                if done:
+                    break
+    finally:
+        sim.space.damping = 1.0

@@ -1,0 +1,221 @@
+"""The Khosravi run: pluviation, at-rest reading, translation of the wall.
+
+``KhosraviRun`` owns a ``Sim`` and exposes the three stages as generators, so a caller
+(workflows/khosravi.py, tests) decides what to draw, log or stop. Nothing here writes
+files. Every pressure reading is a time average over ``case.window`` seconds of the
+contact impulses on each 10 mm panel (``probes.py``).
+
+Normalisation (Khosravi et al. Figs. 9-13): sigma / (gamma H) against z / H, with
+gamma the unit weight of the deposited backfill, total grain weight / (box width x
+surface height) [N/m^3] (eq. 1 with the measured porosity), and H the measured height
+of the surface.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Iterator, NamedTuple
+
+import numpy as np
+
+from .frames import Frame
+from .measure import panel_stresses, readings, solid_fraction
+from .pluviation import LayerStatus, pluviate, surface_height
+from .scenarios import KhosraviCase, build_box
+from .sim import Sim
+from .walls import Translate
+
+G = 9.81
+
+
+class WallReading(NamedTuple):
+    """Time-averaged wall load over one window.
+
+    time:      window centre [s]
+    dis:       wall displacement away from the backfill at the window centre [m]
+    sigma:     (p,) normal stress on every wall panel [Pa], panel 0 at the bottom
+    tau:       (p,) shear stress, positive when the grains drag the wall down [Pa]
+    floor_fy:  vertical force on the floor by the grains [N/m] (negative = down)
+    wall_fy, far_fy: vertical force on the retaining / far wall [N/m]
+    contacts:  (p,) mean grain contacts per panel per step
+    """
+
+    time: float
+    dis: float
+    sigma: np.ndarray
+    tau: np.ndarray
+    floor_fy: float
+    wall_fy: float
+    far_fy: float
+    contacts: np.ndarray
+
+
+@dataclass
+class Backfill:
+    """What the pluviation produced: grain count, surface height H [m], unit weight
+    gamma [N/m^3], porosity n, solid fraction of the interior, simulated time [s]."""
+
+    n_grains: int
+    H: float
+    gamma: float
+    porosity: float
+    interior_porosity: float
+    weight: float
+    time: float
+    steps: int
+    layer_readings: list = field(default_factory=list)
+
+
+class KhosraviRun:
+    """Khosravi et al.'s translation test on a pymunk backfill.
+
+    run = KhosraviRun(case)            # empty box, or KhosraviRun(case, sim=restored)
+    for s in run.fill(): ...           # layered pluviation (LayerStatus per check)
+    rest = run.at_rest()               # WallReading at Dis = 0
+    for r in run.translate(): ...      # WallReading per window up to Dis/H max
+    """
+
+    def __init__(self, case: KhosraviCase, sim: Sim | None = None):
+        self.case = case
+        self.sim = build_box(case) if sim is None else sim
+        self.backfill: Backfill | None = self.sim.meta.get("backfill")
+        self.rest: WallReading | None = None
+        self.history: list[WallReading] = []
+
+    # ------------------------------------------------------------------ stage 1
+    def fill(self) -> Iterator[LayerStatus]:
+        """Layered pluviation to case.H; after each settled layer, one pressure reading
+        is kept in ``backfill.layer_readings`` (Khosravi Fig. 9)."""
+        c, sim = self.case, self.sim
+        layer_readings = list(sim.meta.get("layer_readings", []))
+        sim.meta["layer_readings"] = layer_readings  # kept in checkpoints taken mid-fill
+        last = None
+        for s in pluviate(sim, c.grading, c.material, x0=0.0, x1=c.box_width, floor=0.0,
+                          height=c.H, settings=c.pluviation):
+            yield s
+            if last is not None and s.layer != last.layer:
+                layer_readings.append((last.layer, last.surface, self.reading(0.2 * c.window).sigma))
+            last = s
+        self.backfill = self._describe(layer_readings)
+        sim.meta["backfill"] = self.backfill
+
+    def _describe(self, layer_readings) -> Backfill:
+        c, sim = self.case, self.sim
+        st = sim.state()
+        r = sim.grains.circle_radius
+        H = surface_height(st.position, r, np.ones(len(r), bool), 0.0, c.box_width, bins=20)
+        weight = float(np.sum(sim.masses())) * G
+        solids = float(np.sum(np.pi * r**2))
+        n = 1.0 - solids / (c.box_width * H)
+        inner = solid_fraction(st.position, r, 0.1 * c.box_width, 0.9 * c.box_width, 0.1 * H, 0.9 * H)
+        return Backfill(len(r), H, weight / (c.box_width * H), n, 1.0 - inner, weight,
+                        sim.time, sim.step_count, layer_readings)
+
+    # ------------------------------------------------------------------ readings
+    def reading(self, window: float | None = None) -> WallReading:
+        """Run ``window`` seconds (default case.window) with the pressure cells on and
+        return the time-averaged wall load."""
+        sim = self.sim
+        window = self.case.window if window is None else window
+        n = max(1, int(round(window / sim.dt)))
+        probe = sim.probe
+        wall = sim.walls["wall"]
+        d0 = -wall.displacement()[0]
+        t0 = sim.time
+        probe.start()
+        sim.run(n)
+        probe.stop()
+        d1 = -wall.displacement()[0]
+        sig, tau = panel_stresses(probe.force("wall"), wall.normals(), wall.corners(), wall.lengths())
+        return WallReading(0.5 * (t0 + sim.time), 0.5 * (d0 + d1), sig, tau,
+                           float(probe.force("floor")[:, 1].sum()), float(probe.force("wall")[:, 1].sum()),
+                           float(probe.force("far")[:, 1].sum()), probe.contacts_per_step("wall"))
+
+    def at_rest(self) -> WallReading:
+        """Settle ``case.rest_time`` more, then read the wall at rest."""
+        if self.backfill is None:
+            self.backfill = self._describe([])
+        self.sim.run(max(0, int(round(self.case.rest_time / self.sim.dt))))
+        self.rest = self.reading()
+        return self.rest
+
+    # ------------------------------------------------------------------ stage 3
+    def translate(self) -> Iterator[WallReading]:
+        """Move the wall away from the backfill at case.wall_speed to
+        Dis/H = case.dis_over_H_max (H = measured surface height), one reading per window."""
+        c, sim = self.case, self.sim
+        if self.rest is None:
+            self.at_rest()
+        H = self.backfill.H
+        sim.drive("wall", Translate((-c.wall_speed, 0.0)))
+        try:
+            while True:
+                r = self.reading()
+                self.history.append(r)
+                yield r
+                if r.dis / H >= c.dis_over_H_max:
+                    break
+        finally:
+            sim.drive("wall", None)
+
+    def frame(self, with_contacts: bool = True) -> Frame:
+        return self.sim.frame(with_contacts)
+
+    # ------------------------------------------------------------------ derived
+    def panel_depths(self) -> np.ndarray:
+        """(p,) depth of every panel centre below the surface [m] (negative above it)."""
+        w = self.sim.walls["wall"]
+        return self.backfill.H - w.centres()[:, 1]
+
+    def readings_of(self, r: WallReading) -> tuple[np.ndarray, np.ndarray, float]:
+        """Khosravi's reading points for one WallReading: (depth of each 4-panel reading
+        [m], its mean normal stress [Pa], PS0 = bottom panel alone [Pa]). Only groups
+        wholly below the surface are read."""
+        w = self.sim.walls["wall"]
+        bottoms = w.corners()[:, :, 1].min(axis=1)
+        starts, means = readings(r.sigma, 4, top=self.backfill.H, panel_bottoms=bottoms,
+                                 panel_height=self.case.panel_height)
+        depth = self.backfill.H - (bottoms[starts] + 2 * self.case.panel_height)
+        return depth, means, float(r.sigma[0])
+
+
+def normal_thrust(sigma: np.ndarray, depth: np.ndarray, panel_height: float) -> float:
+    """Normal force on the wall below the surface [N/m]: sum sigma_i L_i over panels
+    whose centre is below the surface (L = panel height)."""
+    return float(np.sum(sigma[depth > 0]) * panel_height)
+
+
+def k_upper_half(sigma: np.ndarray, depth: np.ndarray, panel_height: float, gamma: float,
+                 H: float) -> float:
+    """Lateral earth pressure coefficient of the upper half of the wall: the normal force
+    on the panels with centres at 0 < z <= H/2, over the geostatic force on the same
+    depth range, gamma (H/2)^2 / 2 (a force-weighted mean of sigma_h / (gamma z))."""
+    up = (depth > 0) & (depth <= H / 2)
+    lo_edge = np.clip(depth[up] - panel_height / 2, 0.0, None)
+    hi_edge = depth[up] + panel_height / 2
+    geo = gamma * np.sum(hi_edge**2 - lo_edge**2) / 2.0
+    return float(np.sum(sigma[up]) * panel_height / geo)
+
+
+def steady_displacement(dis_over_H: np.ndarray, thrust: np.ndarray, fraction: float = 0.9,
+                        smooth: int = 3) -> float:
+    """Dis/H at which the thrust has completed ``fraction`` of its drop from the first to
+    the final value and stays there: the first point after which the (running-mean
+    smoothed) thrust never again rises above F_end + (1 - fraction)(F_0 - F_end),
+    F_end = mean of the last 20 % of the readings. nan if it never drops."""
+    t = np.asarray(thrust, float)
+    if smooth > 1 and len(t) >= smooth:
+        k = np.ones(smooth) / smooth
+        t = np.convolve(np.concatenate([np.full(smooth // 2, t[0]), t, np.full(smooth - 1 - smooth // 2, t[-1])]),
+                        k, mode="valid")
+    tail = max(1, len(t) // 5)
+    f_end = float(np.mean(t[-tail:]))
+    f0 = float(t[0])
+    if f0 <= f_end:
+        return float("nan")
+    level = f_end + (1.0 - fraction) * (f0 - f_end)
+    above = np.nonzero(t > level)[0]
+    if len(above) == 0:
+        return float(dis_over_H[0])
+    k = above[-1] + 1
+    return float(dis_over_H[min(k, len(t) - 1)])

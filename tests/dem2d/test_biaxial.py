@@ -1,0 +1,59 @@
+"""Biaxial test at reduced size (grains 4x coarser, ~800 disks) and the shear-band
+reader on a synthetic field.
+
+References: the stress boundary holds sigma_3 (the test's definition); frictionless
+disks have a small macroscopic friction (sin phi ~ 0.1: Peyneau & Roux 2008 for
+spheres, Azema & Radjai for 2D), and friction raises it; a displacement jump across a
+line of known inclination gives back that inclination.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from dem2d.biaxial import BiaxialCase, BiaxialTest, shear_band_angle
+
+
+def _run(mu: float):
+    t = BiaxialTest(BiaxialCase(particles_scale=4.0, friction=mu, prep_friction=0.25, max_strain=0.06, seed=2))
+    for _ in t.prepare():
+        pass
+    for _ in t.shear():
+        pass
+    return t
+
+
+@pytest.fixture(scope="module")
+def tests_by_mu():
+    return {mu: _run(mu) for mu in (0.0, 0.5)}
+
+
+def test_piston_holds_the_confining_stress(tests_by_mu):
+    t = tests_by_mu[0.5]
+    s3 = np.array([s.sigma_3 for s in t.samples[5:]])
+    assert np.mean(s3) == pytest.approx(t.case.confining, rel=0.02)
+    assert np.all(np.abs(s3 / t.case.confining - 1) < 0.15)
+    assert t.samples[-1].eps_axial >= t.case.max_strain
+
+
+def test_friction_angle_of_frictionless_and_frictional_disks(tests_by_mu):
+    r0 = tests_by_mu[0.0].result()
+    r5 = tests_by_mu[0.5].result()
+    assert r0.phi_cs_deg < 10.0                # sin phi ~ 0.1 for frictionless grains
+    assert r5.phi_cs_deg > r0.phi_cs_deg + 5.0
+    assert r5.phi_peak_deg >= r5.phi_cs_deg
+
+
+def test_band_angle_of_a_synthetic_shear_band():
+    rng = np.random.default_rng(0)
+    x0 = rng.uniform([0, 0], [0.07, 0.2], size=(6000, 2))
+    for beta in (55.0, 125.0):
+        th = math.radians(beta)
+        t = np.array([math.cos(th), math.sin(th)])
+        n = np.array([-t[1], t[0]])
+        s = (x0 - [0.035, 0.1]) @ n
+        # grains above the band slide along it by 1 mm, smeared over a 6 mm band
+        u = np.outer(np.clip(s / 0.006 + 0.5, 0, 1) * 1e-3, t)
+        got = shear_band_angle(x0, x0 + u, cell=0.006)
+        assert got == pytest.approx(beta if beta <= 90 else 180 - beta, abs=3.0)

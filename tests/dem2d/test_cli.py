@@ -1,0 +1,43 @@
+"""The CLI end to end on a tiny box (H = 0.1 m, grains 5x coarser): run folder, JSON
+keys, specimen reuse, and one-line errors with exit code 2."""
+
+import json
+
+import pytest
+
+import cli
+
+TINY = ["compare", "khosravi", "--H", "0.1", "--particles-scale", "5", "--set", "dis_over_H_max=0.001",
+        "--quiet", "--json"]
+
+
+def test_bad_overrides_exit_2_with_one_line(capsys, tmp_path):
+    for extra in (["--set", "friction=-1"], ["--set", "no_such_key=1"], ["--H", "0.5"]):
+        with pytest.raises(SystemExit) as e:
+            rc = cli.main(TINY + ["--out", str(tmp_path)] + extra)
+            raise SystemExit(rc)
+        assert e.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "error" in err[0]
+
+
+def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, tmp_path):
+    assert cli.main(TINY + ["--out", str(tmp_path)]) == 0
+    res = json.loads(capsys.readouterr().out)
+    for key in ("K_at_rest_upper_half", "active_thrust_over_rankine", "dis_over_H_steady", "phi_biaxial"):
+        assert key in res["dem"]
+    assert res["specimen_reused"] is False
+    runs = [p for p in (tmp_path / "khosravi").iterdir() if not p.name.startswith("_")]
+    assert len(runs) == 1
+    names = {p.name for p in runs[0].iterdir()}
+    for f in ("config.toml", "manifest.json", "result.json", "at_rest_panels.csv", "readings_vs_displacement.csv",
+              "fig10_at_rest.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png"):
+        assert f in names
+    man = json.loads((runs[0] / "manifest.json").read_text())
+    for key in ("seed", "versions", "n_grains", "dt", "iterations", "friction", "wall_time_s"):
+        assert key in man
+    # same seed and specimen settings: the settled specimen is reused
+    assert cli.main(TINY + ["--out", str(tmp_path)]) == 0
+    res2 = json.loads(capsys.readouterr().out)
+    assert res2["specimen_reused"] is True
+    assert res2["particles"] == res["particles"]

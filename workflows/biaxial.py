@@ -1,0 +1,168 @@
+"""``wallsim calibrate biaxial``: biaxial tests over frictions and confining pressures,
+the friction that gives a target phi, and a calibration card other runs reuse.
+
+The card (JSON) holds, for each test, the friction, the confining stress, phi at peak
+and at critical state, the strains, the band angle, porosity and grain count; and the
+calibrated friction for the target phi (linear interpolation of phi_cs in mu between
+the two bracketing tests). ``phi_for_friction`` reads a card back for the Khosravi run.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from analytic.errors import InvalidParameter
+from dem2d.biaxial import BiaxialCase, BiaxialTest
+from workflows.progress import progress
+from workflows.runfolder import RunFolder, to_plain
+
+#: the card committed with the validation report
+DEFAULT_CARD = Path(__file__).resolve().parents[1] / "docs" / "validation" / "biaxial.json"
+
+
+@dataclass(frozen=True)
+class CalibrationPlan:
+    """What ``calibrate biaxial`` runs.
+
+    frictions:   particle friction coefficients to test at ``confining`` [-]
+    pressures:   extra confining stresses [Pa] tested at the calibrated friction
+    target_phi:  phi [deg] the calibration aims at (Khosravi Table 1: 20.7)
+    case:        the biaxial test (its friction/confining are overridden per test)
+    """
+
+    frictions: tuple[float, ...] = (0.3, 0.5, 0.7)
+    pressures: tuple[float, ...] = ()
+    target_phi: float = 20.7
+    case: BiaxialCase = field(default_factory=BiaxialCase)
+
+
+def run_one(case: BiaxialCase, bar=None, label: str = "") -> tuple[dict, BiaxialTest, float]:
+    """One biaxial test; returns (summary dict with the curves, the test, wall time [s])."""
+    t0 = time.perf_counter()
+    test = BiaxialTest(case)
+    task = bar.add_task(f"biaxial {label} compact", total=None, status="") if bar else None
+    for s in test.prepare():
+        if bar:
+            bar.update(task, status=f"sigma1 {s.sigma_1 / 1e3:.2f} sigma3 {s.sigma_3 / 1e3:.2f} kPa")
+    if bar:
+        bar.update(task, description=f"biaxial {label} shear", total=case.max_strain * 1e4, completed=0)
+    for s in test.shear():
+        if bar:
+            bar.update(task, completed=s.eps_axial * 1e4, status=f"phi {s.phi_mob:.1f} deg")
+    res = test.result()
+    wall = time.perf_counter() - t0
+    out = {**dataclasses.asdict(res),
+           "dt": case.solver.dt, "iterations": case.solver.iterations, "seed": case.seed,
+           "strain_rate": case.strain_rate, "inertial_number": case.inertial_number(),
+           "prep_friction": case.prep_friction, "particles_scale": case.particles_scale,
+           "wall_time_s": wall,
+           "curve": {"eps_axial": [s.eps_axial for s in test.samples],
+                     "sigma_1": [s.sigma_1 for s in test.samples],
+                     "sigma_3": [s.sigma_3 for s in test.samples],
+                     "eps_vol": [s.eps_vol for s in test.samples]}}
+    return out, test, wall
+
+
+def interpolate_friction(tests: list[dict], target_phi: float, key: str = "phi_cs_deg") -> float:
+    """Friction giving ``target_phi`` by linear interpolation of phi(mu) between the two
+    tests that bracket it (nan when the tests do not bracket it)."""
+    pts = sorted((t["friction"], t[key]) for t in tests)
+    for (m0, p0), (m1, p1) in zip(pts, pts[1:]):
+        if (p0 - target_phi) * (p1 - target_phi) <= 0 and p1 != p0:
+            return float(m0 + (target_phi - p0) * (m1 - m0) / (p1 - p0))
+    return float("nan")
+
+
+def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool = False,
+              card: str | Path | None = None) -> tuple[dict, RunFolder]:
+    """Run the plan, write the run folder (config, CSV, PNG, card, manifest); also write
+    the card to ``card`` if given. Returns (card dict, run folder)."""
+    from viz.figures import plot_biaxial
+
+    rf = RunFolder("biaxial", plan.case.seed, root=root)
+    rf.write_config(plan)
+    tests = []
+
+    def card_now(mu_cal):
+        return {"target_phi_deg": plan.target_phi, "calibrated_friction": mu_cal,
+                "source": "wallsim dem2d biaxial test (dem2d/biaxial.py), Khosravi et al. section 2",
+                "tests": [{k: v for k, v in t.items() if k != "curve"} for t in tests],
+                "grading": {"d50_m": plan.case.grading.d50, "cu": plan.case.cu},
+                "run_folder": str(rf.path)}
+
+    def save_card(mu_cal):  # after every test, so other runs can use finished tests
+        if card is not None:
+            Path(card).parent.mkdir(parents=True, exist_ok=True)
+            Path(card).write_text(json.dumps(to_plain(card_now(mu_cal)), indent=2) + "\n")
+
+    with progress(quiet) as bar:
+        for mu in plan.frictions:
+            case = dataclasses.replace(plan.case, friction=float(mu))
+            out, _, _ = run_one(case, bar, f"mu={mu:g}")
+            tests.append(out)
+            save_card(float("nan"))
+        mu_cal = interpolate_friction(tests, plan.target_phi)
+        if not math.isfinite(mu_cal):
+            # phi(mu) does not reach the target (free disks saturate): the pressure series
+            # is run at the friction whose phi is closest to it instead
+            mu_near = min(tests, key=lambda t: abs(t["phi_cs_deg"] - plan.target_phi))["friction"]
+        else:
+            mu_near = mu_cal
+        for p in plan.pressures:
+            case = dataclasses.replace(plan.case, friction=mu_near, confining=float(p))
+            out, _, _ = run_one(case, bar, f"mu={mu_near:.3f} p={p / 1e3:g}kPa")
+            tests.append(out)
+            save_card(mu_cal)
+    rows = []
+    for t in tests:
+        c = t["curve"]
+        for e, s1, s3, ev in zip(c["eps_axial"], c["sigma_1"], c["sigma_3"], c["eps_vol"]):
+            rows.append([t["friction"], t["confining"] / 1e3, e, s1 / 1e3, s3 / 1e3, ev])
+    rf.write_csv("biaxial_curves.csv", ["friction", "confining_kPa", "eps_axial", "sigma_1_kPa",
+                                        "sigma_3_kPa", "eps_vol"], rows)
+    plot_biaxial({f"mu={t['friction']:.3g}, {t['confining'] / 1e3:g} kPa":
+                  (t["curve"]["eps_axial"], t["curve"]["sigma_1"], t["curve"]["sigma_3"], t["curve"]["eps_vol"])
+                  for t in tests}, rf.file("biaxial.png"),
+                 title="Biaxial tests (Khosravi Fig. 4 style)")
+    result = card_now(mu_cal)
+    result["calibrated_friction_peak"] = interpolate_friction(tests[:len(plan.frictions)], plan.target_phi,
+                                                              key="phi_peak_deg")
+    rf.write_json("result.json", result)
+    rf.write_manifest(n_grains=[t["n_grains"] for t in tests], dt=plan.case.solver.dt,
+                      iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
+    if card is not None:
+        Path(card).write_text(json.dumps(to_plain(result), indent=2) + "\n")
+        import shutil
+        shutil.copy(rf.file("biaxial.png"), Path(card).with_suffix(".png"))
+    return result, rf
+
+
+def phi_for_friction(friction: float, card: str | Path = DEFAULT_CARD,
+                     confining: float = 4000.0) -> dict | None:
+    """The card's test at this friction and confining stress (within 1e-6), or None."""
+    p = Path(card)
+    if not p.exists():
+        return None
+    data = json.loads(p.read_text())
+    for t in data.get("tests", []):
+        if abs(t["friction"] - friction) < 1e-6 and abs(t["confining"] - confining) < 1e-6:
+            return t
+    return None
+
+
+def parse_list(name: str, text: str, scale: float = 1.0) -> tuple[float, ...]:
+    """'0.3,0.5,0.7' -> (0.3, 0.5, 0.7) (times ``scale``); one-line error otherwise."""
+    try:
+        vals = tuple(float(x) * scale for x in text.split(",") if x.strip())
+    except ValueError:
+        raise InvalidParameter(name, text, "comma-separated numbers") from None
+    if not vals or any(not math.isfinite(v) or v < 0 for v in vals):
+        raise InvalidParameter(name, text, "comma-separated numbers >= 0")
+    return vals

@@ -1,0 +1,315 @@
+"""``wallsim compare khosravi`` and ``wallsim validate khosravi``: Khosravi et al.'s
+PFC2D translation case run on dem2d and set beside Jaky, Rankine and the arching
+theories.
+
+Run folder (workflows/runfolder.py): config.toml, manifest.json, result.json,
+at_rest_panels.csv, readings_vs_displacement.csv, active_panels.csv, backfilling.csv,
+fig10_at_rest.png, fig12_pressure_vs_displacement.png, fig13_profiles.png and, with
+--rrd, recording.rrd. The settled specimen is kept in
+``<root>/khosravi/_specimens/<key>.pkl`` (key = hash of everything that shapes the
+specimen), so a second ``compare`` with the same seed and specimen settings skips the
+pluviation (a branch from the checkpoint, not a bit-for-bit continuation).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from analytic import Soil, Wall, jaky, rankine
+from analytic.arching import handy, khosravi, paik_salgado
+from analytic.classical import jaky_coefficient, rankine_coefficient
+from dem2d.biaxial import BiaxialCase
+from dem2d.run import KhosraviRun, k_upper_half, normal_thrust, steady_displacement
+from dem2d.scenarios import KhosraviCase
+from dem2d.sim import restore
+from workflows.biaxial import DEFAULT_CARD, phi_for_friction, run_one
+from workflows.progress import progress
+from workflows.runfolder import RunFolder, package_versions, to_plain
+
+#: Khosravi et al.'s published values the report compares with (tests/data/khosravi_reference.json)
+REFERENCE = Path(__file__).resolve().parents[1] / "tests" / "data" / "khosravi_reference.json"
+
+_SPECIMEN_FIELDS = ("H", "box_width", "box_height", "n_panels", "d50", "cu", "particles_scale", "gs",
+                    "friction", "wall_friction", "floor_friction", "far_wall_friction", "seed",
+                    "solver", "pluviation")
+
+
+def specimen_key(case: KhosraviCase) -> str:
+    """Hash of every case field that shapes the settled specimen (not the translation)."""
+    d = {k: to_plain(getattr(case, k)) for k in _SPECIMEN_FIELDS}
+    d["pymunk"] = package_versions().get("pymunk")
+    return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def biaxial_phi(case: KhosraviCase, bar=None, card: Path = DEFAULT_CARD) -> dict:
+    """phi of the backfill material measured by the biaxial test: from the committed
+    calibration card when it holds a 4 kPa test at this friction and grain size, else by
+    running one (same friction, grading and particles_scale)."""
+    t = phi_for_friction(case.friction, card)
+    if t is not None and abs(t.get("particles_scale", 1.0) - case.particles_scale) < 1e-9:
+        return {**t, "from": f"calibration card {card.name}"}
+    bcase = BiaxialCase(d50=case.d50, cu=case.cu, particles_scale=case.particles_scale, gs=case.gs,
+                        friction=case.friction, seed=case.seed)
+    out, _, _ = run_one(bcase, bar, f"mu={case.friction:g}")
+    out.pop("curve", None)
+    return {**out, "from": "biaxial test run for this comparison"}
+
+
+def theories(phi_deg: float, gamma: float, H: float) -> dict:
+    """Jaky (at rest) and Rankine, Handy, Paik-Salgado, Khosravi (active) for a fully
+    rough wall (delta = phi) and the DEM's phi and unit weight."""
+    soil = Soil(phi_deg, gamma)
+    wall = Wall(H, delta_deg=phi_deg)
+    return {"jaky": jaky(soil, Wall(H)), "rankine": rankine(soil, Wall(H)), "handy": handy(soil, wall),
+            "paik-salgado": paik_salgado(soil, wall), "khosravi": khosravi(soil, wall)}
+
+
+def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool = False,
+                     quiet: bool = False, frames: int = 40, specimen_cache: bool = True,
+                     name: str | None = None, card: Path = DEFAULT_CARD,
+                     checkpoint_layers: int = 3) -> tuple[dict, RunFolder]:
+    """Pluviate (or reuse the settled specimen), read the wall at rest, translate it to
+    Dis/H = case.dis_over_H_max, compare with theory; write the run folder.
+
+    Checkpoints: every ``checkpoint_layers`` layers the partly filled box is written to
+    ``<key>.partial.pkl`` (an interrupted pluviation resumes from it), and the settled
+    specimen to ``<key>.pkl`` (later runs with the same key skip the pluviation).
+    Returns (result dict, run folder)."""
+    from viz.figures import (plot_khosravi_at_rest, plot_khosravi_backfilling, plot_khosravi_profiles,
+                             plot_khosravi_vs_displacement)
+
+    t_start, c_start = time.perf_counter(), time.process_time()
+    rf = RunFolder("khosravi", case.seed, root=root, name=name)
+    rf.write_config(case)
+    cache = Path(root) / "khosravi" / "_specimens" / f"{specimen_key(case)}.pkl"
+    recorder = None
+    if rrd:
+        from viz.recorder import Recorder
+        recorder = Recorder(rf.file("recording.rrd"), dim=2, recording_id=f"khosravi-{case.seed}",
+                            app_id="wallsim_khosravi")
+        recorder.log_case(_case_text(case))
+    timings = {}
+    with progress(quiet) as bar:
+        t0 = time.perf_counter()
+        reused = specimen_cache and cache.exists()
+        partial = cache.with_suffix(".partial.pkl")
+        if reused:
+            run = KhosraviRun(case, sim=restore(cache.read_bytes()))
+        else:
+            resumed = specimen_cache and partial.exists()
+            run = KhosraviRun(case, sim=restore(partial.read_bytes()) if resumed else None)
+            task = bar.add_task("pluviation" + (" (resumed)" if resumed else ""), total=None, status="")
+            for s in run.fill():
+                bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
+                           status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, "
+                                  f"unbalanced {s.ratio:.3f}")
+                if specimen_cache and s.done and s.layer < s.n_layers and s.layer % checkpoint_layers == 0:
+                    _atomic_write(partial, run.sim.snapshot())  # mid-fill checkpoint, between layers
+            if specimen_cache:
+                _atomic_write(cache, run.sim.snapshot())
+                partial.unlink(missing_ok=True)
+        timings["pluviation_s"] = time.perf_counter() - t0
+        bf = run.backfill
+        t0 = time.perf_counter()
+        rest = run.at_rest()
+        z = run.panel_depths()
+        timings["at_rest_s"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        n_total = int(math.ceil(case.dis_over_H_max * bf.H / (case.wall_speed * case.window)))
+        every = max(1, n_total // max(frames, 1))
+        task = bar.add_task("translation", total=n_total, status="")
+        gH = bf.gamma * bf.H
+        _log(recorder, run, rest, z, 0.0, gH)
+        for k, r in enumerate(run.translate()):
+            bar.update(task, completed=k + 1, status=f"Dis/H {r.dis / bf.H:.5f}")
+            if recorder is not None and (k + 1) % every == 0:
+                _log(recorder, run, r, z, r.dis / bf.H, gH)
+        timings["translation_s"] = time.perf_counter() - t0
+        # phi of the same material, looked up (or measured) after the long part so a
+        # calibration running alongside can finish first
+        t0 = time.perf_counter()
+        phi_info = biaxial_phi(case, bar, card)
+        phi = float(phi_info["phi_cs_deg"])
+        th = theories(phi, bf.gamma, bf.H)
+        timings["biaxial_s"] = time.perf_counter() - t0
+    if recorder is not None:
+        recorder.log_theory_profiles(list(th.values()), bf.gamma, bf.H)
+        recorder.close()
+    result = summarize(run, rest, phi, phi_info, th, reused, cache)
+    # wall time on a shared machine depends on the other jobs: CPU time of this process too
+    result["timings_s"] = {**timings, "total": time.perf_counter() - t_start,
+                           "cpu_total": time.process_time() - c_start}
+    _write_outputs(rf, run, rest, result, th, plot_khosravi_at_rest, plot_khosravi_vs_displacement,
+                   plot_khosravi_profiles)
+    if bf.layer_readings:
+        plot_khosravi_backfilling(bf.layer_readings, rf.file("fig09_backfilling.png"), gamma=bf.gamma, H=bf.H,
+                                  panel_height=case.panel_height,
+                                  title=f"During backfilling, {bf.n_grains} disks (Khosravi Fig. 9)")
+    rf.write_json("result.json", result)
+    rf.write_manifest(n_grains=bf.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
+                      friction=case.friction, wall_friction=case.material.wall_friction,
+                      specimen=str(cache), specimen_reused=reused, **result["timings_s"])
+    return result, rf
+
+
+def _atomic_write(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_bytes(data)
+    tmp.replace(path)
+
+
+def _case_text(case: KhosraviCase) -> str:
+    return ("# Khosravi et al. translation case (dem2d / pymunk)\n\n```\n"
+            + json.dumps(to_plain(case), indent=1) + "\n```\n")
+
+
+def _log(recorder, run, r, z, dis_over_H, gH) -> None:
+    if recorder is None:
+        return
+    frame = run.frame()
+    frame = frame._replace(panel_force=np.concatenate(
+        [np.column_stack([-r.sigma * run.case.panel_height, -r.tau * run.case.panel_height]),
+         np.zeros((len(frame.panel_area) - len(r.sigma), 2))]))
+    d, m, _ = run.readings_of(r)
+    H = run.backfill.H
+    F = normal_thrust(r.sigma, z, run.case.panel_height)
+    centroid = float(np.sum(r.sigma[z > 0] * (H - z[z > 0])) / max(np.sum(r.sigma[z > 0]), 1e-12)) / H
+    recorder.log_frame(frame, wall_disp_over_H=dis_over_H, profile=(d / H, m / gH),
+                       metrics={"K": 2 * F / (gH * H), "thrust_kN": F / 1e3, "centroid": centroid})
+
+
+def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reused: bool,
+              cache: Path) -> dict:
+    """Headline numbers: the ones the issue asks for, each with what it is compared to."""
+    c, bf = run.case, run.backfill
+    z = run.panel_depths()
+    ph = c.panel_height
+    H, g = bf.H, bf.gamma
+    K0_jaky = jaky_coefficient(math.radians(phi))
+    K_up = k_upper_half(rest.sigma, z, ph, g, H)
+    d, m_rest, ps0_rest = run.readings_of(rest)
+    hist = run.history
+    act = hist[-1]
+    _, m_act, ps0_act = run.readings_of(act)
+    F_rest = normal_thrust(rest.sigma, z, ph)
+    F_act = normal_thrust(act.sigma, z, ph)
+    Ka = rankine_coefficient(math.radians(phi), 0.0)
+    F_rankine = 0.5 * Ka * g * H**2
+    dis = np.array([0.0] + [r.dis / H for r in hist])
+    F = np.array([F_rest] + [normal_thrust(r.sigma, z, ph) for r in hist])
+    steady90 = steady_displacement(dis, F, 0.9)
+    steady95 = steady_displacement(dis, F, 0.95)
+    below = bool(np.all(m_act < m_rest))
+    # PS0 against the reading just above it and against Jaky at its depth
+    z_ps0 = H - 0.5 * ph
+    res = {
+        "case": "khosravi",
+        "particles": bf.n_grains,
+        "seed": c.seed,
+        "dt_s": c.solver.dt,
+        "iterations": c.solver.iterations,
+        "friction": c.friction,
+        "wall_friction": c.material.wall_friction,
+        "pymunk": package_versions().get("pymunk"),
+        "H_m": H,
+        "gamma_N_per_m3": g,
+        "porosity": bf.porosity,
+        "porosity_interior": bf.interior_porosity,
+        "specimen_reused": reused,
+        "specimen": str(cache),
+        "phi_biaxial_source": phi_info.get("from"),
+        "dem": {
+            "phi_biaxial": phi,
+            "phi_biaxial_peak": phi_info.get("phi_peak_deg"),
+            "K_at_rest_upper_half": K_up,
+            "jaky_K0": K0_jaky,
+            "K_at_rest_upper_half_over_jaky": K_up / K0_jaky,
+            "K_at_rest_total": 2 * F_rest / (g * H**2),
+            "K_active_total": 2 * F_act / (g * H**2),
+            "active_thrust_N_per_m": F_act,
+            "rankine_thrust_N_per_m": F_rankine,
+            "active_thrust_over_rankine": F_act / F_rankine,
+            "active_below_at_rest_everywhere": below,
+            "dis_over_H_steady": steady90,
+            "dis_over_H_steady_95": steady95,
+            "PS0_at_rest_over_gammaH": ps0_rest / (g * H),
+            "PS0_at_rest_over_jaky": ps0_rest / (K0_jaky * g * z_ps0),
+            "PS0_active_over_gammaH": ps0_act / (g * H),
+            "lowest_reading_at_rest_over_gammaH": float(m_rest[0] / (g * H)) if len(m_rest) else None,
+            "weight_balance": -(rest.floor_fy + rest.wall_fy + rest.far_fy) / bf.weight,
+            "wall_friction_share_of_weight": -rest.wall_fy / bf.weight,
+        },
+        "readings": {
+            "z_over_H": (d / H).tolist(),
+            "at_rest_over_gammaH": (m_rest / (g * H)).tolist(),
+            "active_over_gammaH": (m_act / (g * H)).tolist(),
+        },
+        "theory_thrust_over_dem_active": {k: p.normal_force() / F_act for k, p in th.items() if k != "jaky"},
+    }
+    return res
+
+
+def _write_outputs(rf, run, rest, result, th, fig10, fig12, fig13) -> None:
+    c, bf = run.case, run.backfill
+    z = run.panel_depths()
+    H, g = bf.H, bf.gamma
+    gH = g * H
+    rf.write_csv("at_rest_panels.csv", ["panel", "z_m", "z_over_H", "sigma_h_kPa", "tau_kPa",
+                                        "sigma_over_gammaH", "contacts_per_step"],
+                 [[i, z[i], z[i] / H, rest.sigma[i] / 1e3, rest.tau[i] / 1e3, rest.sigma[i] / gH,
+                   rest.contacts[i]] for i in range(len(z))])
+    act = run.history[-1]
+    rf.write_csv("active_panels.csv", ["panel", "z_m", "z_over_H", "sigma_h_kPa", "tau_kPa",
+                                       "sigma_over_gammaH"],
+                 [[i, z[i], z[i] / H, act.sigma[i] / 1e3, act.tau[i] / 1e3, act.sigma[i] / gH]
+                  for i in range(len(z))])
+    rows, series = [], {}
+    hist = [rest] + run.history
+    dis = np.array([0.0] + [r.dis / H for r in run.history])
+    for k, r in enumerate(hist):
+        d, m, ps0 = run.readings_of(r)
+        for j, (dz, mv) in enumerate(zip(d, m)):
+            rows.append([dis[k], f"P{j + 1}", dz / H, mv / 1e3, mv / gH])
+            series.setdefault(f"P{j + 1} (z/H = {dz / H:.2f})", []).append(mv / gH)
+        rows.append([dis[k], "PS0", (H - 0.5 * c.panel_height) / H, ps0 / 1e3, ps0 / gH])
+        series.setdefault("PS0 (bottom panel)", []).append(ps0 / gH)
+    rf.write_csv("readings_vs_displacement.csv", ["dis_over_H", "point", "z_over_H", "sigma_h_kPa",
+                                                   "sigma_over_gammaH"], rows)
+    layer_rows = []
+    for layer, surf, sig in bf.layer_readings:
+        for i, s in enumerate(sig):
+            layer_rows.append([layer, surf, i, (i + 0.5) * c.panel_height, s / 1e3])
+    rf.write_csv("backfilling.csv", ["layer", "surface_m", "panel", "panel_centre_height_m", "sigma_h_kPa"],
+                 layer_rows)
+    dem = result["dem"]
+    d, m_rest, ps0 = run.readings_of(rest)
+    _, m_act, _ = run.readings_of(act)
+    inside = z > 0
+    fig10(d / H, m_rest / gH, rf.file("fig10_at_rest.png"), jaky_K=dem["jaky_K0"],
+          ps0=((H - 0.5 * c.panel_height) / H, ps0 / gH), panels=(z[inside] / H, rest.sigma[inside] / gH),
+          title=f"At rest, H = {H * 1e3:.0f} mm, {bf.n_grains} disks; K upper half {dem['K_at_rest_upper_half']:.3f}")
+    fig12(dis, {k: np.array(v) for k, v in series.items()}, rf.file("fig12_pressure_vs_displacement.png"),
+          steady=dem["dis_over_H_steady"], title=f"H = {H * 1e3:.0f} mm, {bf.n_grains} disks, "
+                                                  f"wall speed {c.wall_speed * 1e3:g} mm/s")
+    fig13(d / H, m_rest / gH, m_act / gH, [p for k, p in th.items() if k != "jaky"],
+          rf.file("fig13_profiles.png"), jaky_K=dem["jaky_K0"], gamma=g, H=H,
+          title=f"phi_biaxial = {dem['phi_biaxial']:.1f} deg, delta = phi")
+
+
+def validate_khosravi(*, out_dir: str | Path, root: str | Path = "runs", quiet: bool = False,
+                      case: KhosraviCase | None = None, rrd: bool = False) -> dict:
+    """Full-size run (H = 0.3 m, D50 = 1.16 mm) and its report: ``khosravi.json`` and
+    ``khosravi.md`` with the figures in ``out_dir`` (docs/validation by default)."""
+    from workflows.khosravi_report import write_report
+
+    case = case or KhosraviCase()
+    result, rf = compare_khosravi(case, root=root, quiet=quiet, rrd=rrd)
+    return write_report(result, rf, Path(out_dir), REFERENCE)
