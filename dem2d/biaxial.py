@@ -131,7 +131,8 @@ class BiaxialResult:
     phi_cs_deg:               critical state: mean phi over the last third of the strain
     eps_cs:                   strain at which sin(phi) first reaches 95 % of sin(phi_cs)
     band_angle_deg:           shear band angle from the major principal plane
-    phi_from_band_deg:        2 (beta - 45), the paper's reading of the band angle
+    phi_from_band_deg:        2 (beta - 45), the paper's reading of the band angle (NaN for a band
+                              flatter than 45 deg, which has no Mohr-Coulomb reading)
     solid_fraction_0:         after compaction; porosity = 1 - solid_fraction_0
     n_grains, dilatancy_deg:  grain count; mean dilatancy angle over the last third
     """
@@ -342,7 +343,7 @@ def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialC
         band = shear_band_angle(xa, xb, cell=3 * case.grading.d50)
     return BiaxialResult(phi_peak_deg=float(phi[ipk]), eps_peak=float(eps[ipk]), phi_cs_deg=phi_cs,
                          eps_cs=eps_cs, band_angle_deg=band,
-                         phi_from_band_deg=2.0 * (band - 45.0) if math.isfinite(band) else float("nan"),
+                         phi_from_band_deg=2.0 * (band - 45.0) if math.isfinite(band) and band >= 45.0 else float("nan"),
                          solid_fraction_0=samples[0].solid_fraction, n_grains=n_grains,
                          dilatancy_deg=psi, confining=case.confining, friction=case.friction)
 
