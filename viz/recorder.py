@@ -69,8 +69,7 @@ def nadukuru_blueprint() -> rrb.Blueprint:
 
 def khosravi_blueprint() -> rrb.Blueprint:
     """Khosravi et al.: the 2D box with its 40 pressure cells."""
-    return default_blueprint(2, scene_name="disks, pressure cells and force chains",
-                             extra_series=(P.METRIC_PANEL_STRESS,))
+    return default_blueprint(2, scene_name="disks, pressure cells and force chains")
 
 
 def _timed(method):

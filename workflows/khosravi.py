@@ -91,9 +91,9 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     cache = Path(root) / "khosravi" / "_specimens" / f"{specimen_key(case)}.pkl"
     recorder = None
     if rrd:
-        from viz.recorder import Recorder
+        from viz.recorder import Recorder, khosravi_blueprint
         recorder = Recorder(rf.file("recording.rrd"), dim=2, recording_id=f"khosravi-{case.seed}",
-                            app_id="wallsim_khosravi")
+                            app_id="wallsim_khosravi", blueprint=khosravi_blueprint())
         recorder.log_case(_case_text(case))
     timings = {}
     with progress(quiet) as bar:
