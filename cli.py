@@ -416,7 +416,9 @@ def _add_validate_nadukuru(sub):
     p.add_argument("--particles", type=_count("particles"), default=30_000, help="spheres (30000)")
     p.add_argument("--walls", default="rough,smooth", help="comma list of rough, smooth (rough,smooth)")
     p.add_argument("--modes", default="T,RB,RT,mixed", help="comma list of T, RB, RT, mixed (all)")
-    p.add_argument("--no-triaxial", action="store_true", help="skip the triaxial calibration")
+    p.add_argument("--no-triaxial", action="store_true",
+                   help="skip the triaxial calibration (an existing card for the recipe is used)")
+    p.add_argument("--no-rate-check", action="store_true", help="skip the half-speed repeat of translation")
     p.add_argument("--docs", default="docs/validation", metavar="DIR", help="where the report goes")
     _add_run_options(p)
     p.set_defaults(func=_cmd_validate_nadukuru, mode="T", wall="rough")
@@ -440,7 +442,7 @@ def _cmd_validate_nadukuru(args) -> int:
     case = _nadukuru_case(args)
     with progress(args.quiet) as bar:
         rep = validate_nadukuru(case, out_dir=Path(args.docs), root=Path(args.out), walls=walls, modes=modes,
-                                triaxial=not args.no_triaxial, progress=bar,
+                                triaxial=not args.no_triaxial, rate_check=not args.no_rate_check, progress=bar,
                                 log=lambda msg: print(msg, file=sys.stderr, flush=True))
     if args.json:
         print(json.dumps(rep, indent=2, default=str))
