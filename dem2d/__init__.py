@@ -17,7 +17,7 @@ Layout (docs/dem2d.md has the why):
 * ``pluviation``  layered pluviation
 * ``biaxial``     biaxial test with a stress-controlled piston; band angle
 * ``scenarios``   KhosraviCase, build_box
-* ``run``         KhosraviRun: fill, at rest, translate; k_upper_half, steady_displacement
+* ``run``         KhosraviRun: fill, at rest, translate; k_upper_half
 """
 
 from .biaxial import BiaxialCase, BiaxialResult, BiaxialTest
@@ -27,7 +27,7 @@ from .grading import Grading
 from .params import Material, Solver
 from .pluviation import Pluviation, pluviate
 from .probes import PanelProbe
-from .run import KhosraviRun, WallReading, k_upper_half, normal_thrust, steady_displacement
+from .run import KhosraviRun, WallReading, k_upper_half, normal_thrust
 from .scenarios import KhosraviCase, build_box
 from .sim import Sim, restore
 from .walls import Fixed, PanelWall, RotateAbout, Schedule, Translate, panel_wall
@@ -35,6 +35,6 @@ from .walls import Fixed, PanelWall, RotateAbout, Schedule, Translate, panel_wal
 __all__ = ["BiaxialCase", "BiaxialResult", "BiaxialTest", "Grains", "add_clumps", "add_disks",
            "add_polygons", "friction_split", "new_space", "Frame", "body_state", "grain_contacts",
            "make_frame", "Grading", "Material", "Solver", "Pluviation", "pluviate", "PanelProbe",
-           "KhosraviRun", "WallReading", "k_upper_half", "normal_thrust", "steady_displacement",
+           "KhosraviRun", "WallReading", "k_upper_half", "normal_thrust",
            "KhosraviCase", "build_box", "Sim", "restore", "Fixed", "PanelWall", "RotateAbout",
            "Schedule", "Translate", "panel_wall"]

@@ -26,7 +26,8 @@ from analytic import Soil, Wall, jaky, rankine
 from analytic.arching import handy, khosravi, paik_salgado
 from analytic.classical import jaky_coefficient, rankine_coefficient
 from dem2d.biaxial import BiaxialCase
-from dem2d.run import KhosraviRun, k_upper_half, normal_thrust, steady_displacement
+from dem2d.run import KhosraviRun, k_upper_half, normal_thrust
+from workflows.measures import steady_displacement
 from dem2d.scenarios import KhosraviCase
 from dem2d.sim import restore
 from workflows.biaxial import DEFAULT_CARD, phi_for_friction, run_one
