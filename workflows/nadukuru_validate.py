@@ -164,7 +164,8 @@ def markdown(rep: dict, discussion: str | None = None) -> str:
               "|---|---|---|---|---|---|---|---|"]
         for m, r in e["modes"].items():
             p = r["paper"]
-            ok = ("yes" if r.get("K_within_tol") and r.get("height_within_tol") else
+            ok = ("no paper value" if p.get("K") is None else
+                  "yes" if r.get("K_within_tol") and r.get("height_within_tol") else
                   "K " + ("ok" if r.get("K_within_tol") else "MISS") + ", h " + ("ok" if r.get("height_within_tol") else "MISS"))
             L.append(f"| {m} | {r['K']:.3f} | {p['K']} | {r['resultant_height_over_H']:.3f} | "
                      f"{p['resultant_height_over_H']} | {ok} | {r['disp_over_H_steady']:.4f} | {r['wall_time_s'] / 60:.1f} min |")
