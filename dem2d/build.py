@@ -119,6 +119,18 @@ def _shuffled(n: int, rng: np.random.Generator) -> np.ndarray:
     return order
 
 
+def _grain_shape(shape, material, friction: float, *, with_density: bool = True):
+    """Give a grain's shape its material: shape friction (see ``friction_split``),
+    elasticity, the grain collision type and, unless ``with_density`` is False (clump
+    members, whose body mass is set from the union), the density [kg/m^2]."""
+    if with_density:
+        shape.density = material.density
+    shape.friction = friction
+    shape.elasticity = material.elasticity
+    shape.collision_type = GRAIN_TYPE
+    return shape
+
+
 def add_disks(space: pymunk.Space, grains: Grains, centres: np.ndarray, radii: np.ndarray,
               material: Material, rng: np.random.Generator,
               velocities: np.ndarray | None = None) -> np.ndarray:
@@ -138,11 +150,7 @@ def add_disks(space: pymunk.Space, grains: Grains, centres: np.ndarray, radii: n
         b.position = (float(centres[k, 0]), float(centres[k, 1]))
         if velocities is not None:
             b.velocity = (float(velocities[k, 0]), float(velocities[k, 1]))
-        c = pymunk.Circle(b, float(radii[k]))
-        c.density = material.density
-        c.friction = f_grain
-        c.elasticity = material.elasticity
-        c.collision_type = GRAIN_TYPE
+        c = _grain_shape(pymunk.Circle(b, float(radii[k])), material, f_grain)
         objs += (b, c)
         bodies.append(b)
     space.add(*objs)
@@ -201,10 +209,8 @@ def add_clumps(space: pymunk.Space, grains: Grains, centres: np.ndarray, angles:
         b.angle = float(angles[k])
         objs.append(b)
         for o, r in zip(t_off, t_rad):
-            c = pymunk.Circle(b, float(r * s), offset=(float(o[0] * s), float(o[1] * s)))
-            c.friction = f_grain
-            c.elasticity = material.elasticity
-            c.collision_type = GRAIN_TYPE
+            c = _grain_shape(pymunk.Circle(b, float(r * s), offset=(float(o[0] * s), float(o[1] * s))),
+                             material, f_grain, with_density=False)
             objs.append(c)
             cb.append(first + j)
             off.append(o * s)
@@ -233,11 +239,7 @@ def add_polygons(space: pymunk.Space, grains: Grains, centres: np.ndarray, angle
         b.position = (float(centres[k][0]), float(centres[k][1]))
         b.angle = float(angles[k])
         v = [tuple(map(float, p)) for p in np.asarray(vertices[k], float)]
-        s = pymunk.Poly(b, v, radius=bevel)
-        s.density = material.density
-        s.friction = f_grain
-        s.elasticity = material.elasticity
-        s.collision_type = GRAIN_TYPE
+        s = _grain_shape(pymunk.Poly(b, v, radius=bevel), material, f_grain)
         objs += (b, s)
         bodies.append(b)
         grains.polys.append((first + j, np.asarray(vertices[k], float)))
