@@ -15,6 +15,7 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 
@@ -25,6 +26,8 @@ from workflows.runfolder import RunFolder, to_plain
 
 #: the card committed with the validation report
 DEFAULT_CARD = Path(__file__).resolve().parents[1] / "docs" / "validation" / "biaxial.json"
+#: the cards a Khosravi run looks in: coarse grains (particles_scale 2) and full size
+DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"))
 
 
 @dataclass(frozen=True)
@@ -144,16 +147,21 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
     return result, rf
 
 
-def phi_for_friction(friction: float, card: str | Path = DEFAULT_CARD,
-                     confining: float = 4000.0) -> dict | None:
-    """The card's test at this friction and confining stress (within 1e-6), or None."""
-    p = Path(card)
-    if not p.exists():
-        return None
-    data = json.loads(p.read_text())
-    for t in data.get("tests", []):
-        if abs(t["friction"] - friction) < 1e-6 and abs(t["confining"] - confining) < 1e-6:
-            return t
+def phi_for_friction(friction: float, cards: str | Path | Sequence[str | Path] = DEFAULT_CARDS,
+                     confining: float = 4000.0, particles_scale: float = 1.0) -> dict | None:
+    """The first test at this friction, confining stress and grain scale (each within
+    1e-6) in ``cards`` (one card or several, searched in order; missing files are
+    skipped), with ``"card"`` set to the file it came from; None if no card has one.
+    The grain scale matters: phi of free disks in a 70 mm wide specimen depends on how
+    many grains span it (docs/dem2d.md)."""
+    paths = [cards] if isinstance(cards, (str, Path)) else list(cards)
+    for p in map(Path, paths):
+        if not p.exists():
+            continue
+        for t in json.loads(p.read_text()).get("tests", []):
+            if (abs(t["friction"] - friction) < 1e-6 and abs(t["confining"] - confining) < 1e-6
+                    and abs(t.get("particles_scale", 1.0) - particles_scale) < 1e-6):
+                return {**t, "card": str(p)}
     return None
 
 

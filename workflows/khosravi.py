@@ -30,7 +30,7 @@ from dem2d.run import KhosraviRun, k_upper_half, normal_thrust
 from workflows.measures import steady_displacement
 from dem2d.scenarios import KhosraviCase
 from dem2d.sim import restore
-from workflows.biaxial import DEFAULT_CARD, phi_for_friction, run_one
+from workflows.biaxial import DEFAULT_CARDS, phi_for_friction, run_one
 from workflows.progress import progress
 from workflows.runfolder import RunFolder, package_versions, to_plain
 
@@ -49,17 +49,28 @@ def specimen_key(case: KhosraviCase) -> str:
     return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def biaxial_phi(case: KhosraviCase, bar=None, card: Path = DEFAULT_CARD) -> dict:
+def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DEFAULT_CARDS,
+                root: str | Path | None = None) -> dict:
     """phi of the backfill material measured by the biaxial test: from the committed
-    calibration card when it holds a 4 kPa test at this friction and grain size, else by
-    running one (same friction, grading and particles_scale)."""
-    t = phi_for_friction(case.friction, card)
-    if t is not None and abs(t.get("particles_scale", 1.0) - case.particles_scale) < 1e-9:
-        return {**t, "from": f"calibration card {card.name}"}
+    calibration card (or a test an earlier run saved under ``<root>/khosravi/_biaxial``)
+    when one holds a 4 kPa test at this friction and grain size, else by running one
+    (same friction, grading and particles_scale) and saving it there for the next run
+    (a full-size test takes ~15-25 min)."""
     bcase = BiaxialCase(d50=case.d50, cu=case.cu, particles_scale=case.particles_scale, gs=case.gs,
                         friction=case.friction, seed=case.seed)
+    key = hashlib.sha256(json.dumps(to_plain(bcase), sort_keys=True).encode()).hexdigest()[:16]
+    saved = Path(root) / "khosravi" / "_biaxial" / f"{key}.json" if root is not None else None
+    cards = [card] if isinstance(card, (str, Path)) else list(card)
+    t = phi_for_friction(case.friction, cards + ([saved] if saved else []),
+                         particles_scale=case.particles_scale)
+    if t is not None:
+        return {**t, "from": f"calibration card {Path(t.pop('card')).name}"}
     out, _, _ = run_one(bcase, bar, f"mu={case.friction:g}")
     out.pop("curve", None)
+    if saved is not None:
+        saved.parent.mkdir(parents=True, exist_ok=True)
+        saved.write_text(json.dumps(to_plain({"source": "biaxial test run by wallsim compare khosravi",
+                                               "tests": [out]}), indent=2) + "\n")
     return {**out, "from": "biaxial test run for this comparison"}
 
 
@@ -74,7 +85,7 @@ def theories(phi_deg: float, gamma: float, H: float) -> dict:
 
 def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool = False,
                      quiet: bool = False, frames: int = 40, specimen_cache: bool = True,
-                     name: str | None = None, card: Path = DEFAULT_CARD,
+                     name: str | None = None, card: Path | tuple[Path, ...] = DEFAULT_CARDS,
                      checkpoint_layers: int = 3) -> tuple[dict, RunFolder]:
     """Pluviate (or reuse the settled specimen), read the wall at rest, translate it to
     Dis/H = case.dis_over_H_max, compare with theory; write the run folder.
@@ -136,7 +147,7 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
         # phi of the same material, looked up (or measured) after the long part so a
         # calibration running alongside can finish first
         t0 = time.perf_counter()
-        phi_info = biaxial_phi(case, bar, card)
+        phi_info = biaxial_phi(case, bar, card, root)
         phi = float(phi_info["phi_cs_deg"])
         th = theories(phi, bf.gamma, bf.H)
         timings["biaxial_s"] = time.perf_counter() - t0

@@ -41,3 +41,8 @@ def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, 
     res2 = json.loads(capsys.readouterr().out)
     assert res2["specimen_reused"] is True
     assert res2["particles"] == res["particles"]
+    # no card holds a biaxial test at this grain size: the first run measured phi and
+    # saved the test, the second reads it back instead of repeating it
+    assert res["phi_biaxial_source"] == "biaxial test run for this comparison"
+    assert res2["phi_biaxial_source"].startswith("calibration card")
+    assert res2["dem"]["phi_biaxial"] == res["dem"]["phi_biaxial"]
