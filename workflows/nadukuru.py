@@ -12,7 +12,8 @@ Stages (each a function; the CLI strings them together):
 3. ``theory_rows``: Coulomb, Rankine, DSM for the mode, the paper's DEM, Fang & Ishibashi.
 
 Geometry: wall face at x = 0 (normal +x, backfill at x > 0), floor z = 0, far wall at
-x = L, periodic along y (width w). Wall movement is away from the backfill (-x).
+x = L, periodic along y (width w) or, with ``WallSetup.side_friction`` set, between two
+side walls at y = 0 and y = w (the paper's "box with smooth side walls"). Wall movement is away from the backfill (-x).
 K follows eq. 6: K = F_n / (0.5 rho (1 - n) g H^2 w), F_n the normal force on the wall,
 n the measured porosity of the specimen (the paper used n = 0.36).
 """
@@ -109,19 +110,24 @@ class SpecimenRecipe:
 @dataclass(frozen=True)
 class WallSetup:
     """The wall and the box. height H and width w [m], 6 equal segments in the paper;
-    friction 0.35 (rough) or 0 (smooth); backfill length L behind the wall [m]."""
+    friction 0.35 (rough) or 0 (smooth); backfill length L behind the wall [m].
+    side_friction: None = periodic along the width (default); a number = two side walls
+    at y = 0 and y = w with this friction (0 = the paper's smooth side walls)."""
 
     height: float = 3.1
     width: float = 0.5
     segments: int = 6
     friction: float = 0.35
     backfill_length: float = 3.3
+    side_friction: float | None = None
 
     def __post_init__(self):
         require_number("height", self.height, 0, None)
         require_number("width", self.width, 0, None)
         require_number("segments", self.segments, 1, 100, lo_open=False, hi_open=False)
         require_number("friction", self.friction, 0, None, lo_open=False)
+        if self.side_friction is not None:
+            require_number("side_friction", self.side_friction, 0, None, lo_open=False)
 
 
 @dataclass(frozen=True)
@@ -196,7 +202,11 @@ def _box_walls(wall: WallSetup, rec: SpecimenRecipe, motion=dem3d.FIXED) -> list
                                 wall.friction, unbounded_width=True)
     floor = dem3d.plane((0.5 * L, 0.5 * w, 0.0), (0.0, 0.0, 1.0), rec.floor_friction, (0.5 * L, 0.5 * w))
     far = dem3d.plane((L, 0.5 * w, 0.5 * H), (-1.0, 0.0, 0.0), 0.0, (0.5 * w, 0.5 * H))
-    return [dem3d.Wall("wall", face, motion), dem3d.Wall("box", [floor, far])]
+    box = [floor, far]
+    if wall.side_friction is not None:
+        box += [dem3d.plane((0.5 * L, 0.0, 0.5 * H), (0.0, 1.0, 0.0), wall.side_friction, (0.5 * L, 0.5 * H)),
+                dem3d.plane((0.5 * L, w, 0.5 * H), (0.0, -1.0, 0.0), wall.side_friction, (0.5 * L, 0.5 * H))]
+    return [dem3d.Wall("wall", face, motion), dem3d.Wall("box", box)]
 
 
 def _guard_above_wall(wall: WallSetup, top: float) -> dem3d.Wall:
@@ -249,7 +259,8 @@ PREPARATION_VERSION = 4
 def specimen_key(case: NadukuruCase) -> str:
     """Hash of everything that shapes the settled specimen (not the movement)."""
     blob = json.dumps({"specimen": dataclasses.asdict(case.specimen),
-                       "wall": {k: v for k, v in dataclasses.asdict(case.wall).items()},
+                       # an unset optional field is left out, so adding one keeps older keys
+                       "wall": {k: v for k, v in dataclasses.asdict(case.wall).items() if v is not None},
                        "seed": case.seed, "procedure": PREPARATION_VERSION}, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
@@ -287,7 +298,7 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     dt_soft = dt * math.sqrt(soft)
     sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, 0.0, soft), dt=dt_soft,
                            walls=walls + [_guard_above_wall(wall, gen_height + d_max)],
-                           periodic=dem3d.Periodic(1, 0.0, w))
+                           periodic=dem3d.Periodic(1, 0.0, w) if wall.side_friction is None else None)
     g_dep = G * rec.deposition_gravity
     sim.gravity = np.array([0.0, 0.0, -g_dep])
     steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from analytic.errors import InvalidParameter
-from workflows.nadukuru import (Movement, NadukuruCase, SpecimenRecipe, grain_scale, load_or_prepare, move_wall,
-                                run_modes, wall_load)
+from workflows.nadukuru import (Movement, NadukuruCase, SpecimenRecipe, WallSetup, grain_scale, load_or_prepare,
+                                move_wall, run_modes, wall_load)
 
 SMALL = NadukuruCase(specimen=SpecimenRecipe(particles=2400), seed=7)
 
@@ -114,3 +114,21 @@ def test_reduced_size_keeps_the_geometry():
 def test_bad_mode():
     with pytest.raises(InvalidParameter, match="mode"):
         Movement(mode="X")
+
+
+def test_smooth_side_walls_hold_the_fill_and_carry_no_weight(tmp_path):
+    """The paper's box "with smooth side walls" (side_friction=0) instead of the periodic
+    width: every sphere stays between the side walls, and the panels' vertical reactions
+    add up to the fill's weight (static equilibrium, sum F_z = m g, within 1 %), of which
+    the frictionless side and far walls take none."""
+    case = NadukuruCase(specimen=SpecimenRecipe(particles=1500), wall=WallSetup(side_friction=0.0), seed=3)
+    spec, _ = load_or_prepare(case, tmp_path)
+    st = spec.state
+    x, r = st["spheres.x"], st["spheres.r"]
+    assert np.all(x[:, 1] - r > -0.1 * r) and np.all(x[:, 1] + r < spec.width + 0.1 * r)
+    _, first = np.unique(st["spheres.body_id"], return_index=True)
+    weight = float(np.sum(1.0 / st["spheres.inv_m"][first])) * 9.81
+    fz = st["panel_force"][:, 2]
+    assert abs(-fz.sum() / weight - 1.0) < 0.01
+    n_wall = case.wall.segments
+    assert np.all(np.abs(fz[n_wall + 1:]) < 1e-9 * weight)     # far wall and the two side walls
