@@ -175,7 +175,7 @@ def _add_compare_khosravi(sub):
     k.add_argument("--H", type=_number("H", 0, 0.4, hi_open=False, unit="m"), default=0.3,
                    help="backfill height [m] (0.3; paper: 0.2, 0.25, 0.3)")
     k.add_argument("--particles-scale", type=_number("particles-scale", 0, None), default=1.0,
-                   help="multiply every grain diameter (1 = D50 1.16 mm, ~45k disks; 2 = ~11k)")
+                   help="multiply every grain diameter (1 = D50 1.16 mm, ~62k disks at H 0.3; 2 = ~15k)")
     k.add_argument("--rrd", action="store_true", help="write recording.rrd (disks, walls, force chains)")
     k.add_argument("--no-cache", action="store_true", help="do not reuse or keep the settled specimen")
     _add_run_options(k)
@@ -280,7 +280,7 @@ def _cmd_calibrate_biaxial(args) -> int:
 def _add_validate_khosravi(sub):
     cases = _case_group(sub, "validate", "full-size validation runs and their reports")
     k = cases.add_parser("khosravi", help="full-size Khosravi case -> docs/validation/khosravi.{json,md} + figures",
-                         description="H = 0.3 m, D50 = 1.16 mm (~45k disks); about half an hour or more.")
+                         description="H = 0.3 m, D50 = 1.16 mm (~62k disks); about 4 h on a 2-core machine (pluviation ~3 h; docs/validation/khosravi.md).")
     k.add_argument("--out-dir", default="docs/validation", help="where the report goes (docs/validation)")
     k.add_argument("--rrd", action="store_true", help="also keep recording.rrd in the run folder")
     _add_run_options(k)
