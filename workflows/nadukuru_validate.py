@@ -95,6 +95,10 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
                                    "dK": hist["K_active"] - entry["modes"]["T"]["K"],
                                    "wall_time_s": time.perf_counter() - tm}
             log(f"{wall_kind} T at half speed: K {hist['K_active']:.3f}")
+        report["walls"][wall_kind] = entry
+        if set(modes) != set(MODES):    # a partial rerun: the figures need every mode, keep the old ones
+            log(f"{wall_kind}: figures not redrawn (modes {','.join(modes)} only)")
+            continue
         paper_K = {m: paper_values(m, wall_kind)["K"] for m in modes if paper_values(m, wall_kind)["K"]}
         plot_load_history(curves, out_dir / f"nadukuru_fig4_{wall_kind}.png", paper=paper_K,
                           at_rest=spec.K_at_rest, title=f"K vs wall movement, {wall_kind} wall ({spec.n_spheres} spheres)")
@@ -104,7 +108,6 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
         if chains is not None:
             plot_force_chains(chains, out_dir / f"nadukuru_chains_RT_{wall_kind}.png",
                               title=f"Rotation about the top, {wall_kind} wall: force chains at the end")
-        report["walls"][wall_kind] = entry
     report["wall_time_s"] = time.perf_counter() - t0
     report = _keep_other_walls(report, out_dir / "nadukuru.json")
     (out_dir / "nadukuru.json").write_text(json.dumps(to_plain(report), indent=1) + "\n")
@@ -114,18 +117,30 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
 
 
 def _keep_other_walls(report: dict, previous: Path) -> dict:
-    """A validation may run one wall per invocation (they take an hour each at paper
-    scale): walls in an earlier report that this run did not redo are kept, each with the
-    git revision that produced it."""
+    """A validation may run one wall, or some modes, per invocation (a wall takes an hour
+    at paper scale): walls, modes and rate checks in an earlier report that this run did
+    not redo are kept, each with the git revision that produced it."""
     for entry in report["walls"].values():
         entry["git"] = report["git"]
+        for row in entry["modes"].values():
+            row["git"] = report["git"]
+        if "rate_check" in entry:
+            entry["rate_check"]["git"] = report["git"]
     if not previous.exists():
         return report
     old = json.loads(previous.read_text())
-    for wall, entry in old.get("walls", {}).items():
+    for wall, old_entry in old.get("walls", {}).items():
+        old_git = old_entry.get("git", old.get("git"))
         if wall not in report["walls"]:
-            entry.setdefault("git", old.get("git"))
-            report["walls"][wall] = entry
+            old_entry.setdefault("git", old_git)
+            report["walls"][wall] = old_entry
+            continue
+        entry = report["walls"][wall]
+        kept = {m: row | {"git": row.get("git", old_git)} for m, row in old_entry.get("modes", {}).items()
+                if m not in entry["modes"]}
+        entry["modes"] = {m: (entry["modes"] | kept)[m] for m in MODES if m in entry["modes"] or m in kept}
+        if "rate_check" not in entry and "rate_check" in old_entry:
+            entry["rate_check"] = old_entry["rate_check"] | {"git": old_entry["rate_check"].get("git", old_git)}
     if "triaxial" not in report and "triaxial" in old:
         report["triaxial"] = old["triaxial"]
     report["wall_time_s"] += old.get("wall_time_s", 0.0)
@@ -160,15 +175,16 @@ def markdown(rep: dict, discussion: str | None = None) -> str:
               f"issue window 0.33-0.42), centroid {s['centroid_at_rest']:.3f} (paper 0.323), at-rest load "
               f"{s['at_rest_load_kN_per_0.5m']:.1f} kN per 0.5 m (paper ~15.4)"
               + (f", prepared in {s['wall_time_s'] / 60:.1f} min." if s.get("wall_time_s") else " (cached)."), "",
-              "| mode | DEM K | paper K | DEM h/H | paper h/H | within tol. | steady by Delta/H | wall time |",
-              "|---|---|---|---|---|---|---|---|"]
+              "| mode | DEM K | paper K | DEM h/H | paper h/H | within tol. | steady by Delta/H | wall time | git |",
+              "|---|---|---|---|---|---|---|---|---|"]
         for m, r in e["modes"].items():
             p = r["paper"]
             ok = ("no paper value" if p.get("K") is None else
                   "yes" if r.get("K_within_tol") and r.get("height_within_tol") else
                   "K " + ("ok" if r.get("K_within_tol") else "MISS") + ", h " + ("ok" if r.get("height_within_tol") else "MISS"))
             L.append(f"| {m} | {r['K']:.3f} | {p['K']} | {r['resultant_height_over_H']:.3f} | "
-                     f"{p['resultant_height_over_H']} | {ok} | {r['disp_over_H_steady']:.4f} | {r['wall_time_s'] / 60:.1f} min |")
+                     f"{p['resultant_height_over_H']} | {ok} | {r['disp_over_H_steady']:.4f} | {r['wall_time_s'] / 60:.1f} min | "
+                     f"{r.get('git', e.get('git', rep['git']))} |")
         order = [e["modes"][m]["resultant_height_over_H"] for m in ("RB", "T", "RT") if m in e["modes"]]
         if len(order) == 3:
             L += ["", f"Resultant heights RB < T < RT: **{'yes' if order[0] < order[1] < order[2] else 'NO'}** "
@@ -176,7 +192,7 @@ def markdown(rep: dict, discussion: str | None = None) -> str:
         if "rate_check" in e:
             rc = e["rate_check"]
             L += [f"Half wall speed ({rc['speed_m_per_s']} m/s): K {rc['K']:.3f}, change {rc['dK']:+.3f} "
-                  f"(issue: < 0.01)."]
+                  f"(issue: < 0.01); git {rc.get('git', e.get('git', rep['git']))}."]
         L.append("")
         th = {m: {t["name"]: t for t in r.get("theory", [])} for m, r in e["modes"].items()}
         for m, rows in th.items():
