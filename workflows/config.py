@@ -79,7 +79,7 @@ def flat_keys(case, prefix: str = "") -> list[str]:
     return keys
 
 
-def _resolve(case, dotted: str):
+def _resolve(case, dotted: str, raw=None):
     """Find the (sub)case and field for a key; bare names also match nested fields."""
     parts = dotted.split(".")
     node = case
@@ -94,12 +94,14 @@ def _resolve(case, dotted: str):
         hits = [k for k in flat_keys(case) if k.split(".")[-1] == name]
         if len(hits) == 1:
             return hits[0].split(".")[:-1], name
+        if len(hits) > 1:
+            raise InvalidParameter(dotted, raw, " or ".join(hits), "the name is in two records: give its record")
     return None
 
 
 def set_value(case, key: str, raw):
     """Return a copy of ``case`` with ``key`` set to ``raw`` (coerced to the field type)."""
-    hit = _resolve(case, key)
+    hit = _resolve(case, key, raw)
     if hit is None:
         raise InvalidParameter(key, raw, "a key of this case: " + ", ".join(flat_keys(case)),
                                "unknown key")

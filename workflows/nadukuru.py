@@ -138,19 +138,26 @@ class WallSetup:
 @dataclass(frozen=True)
 class Movement:
     """Wall movement: mode T | RB | RT | mixed, to disp_over_H (Delta at the edge opposite
-    the pivot, paper 0.008), at ``speed`` [m/s] of that edge after a ``ramp`` [s]."""
+    the pivot, paper 0.008), at ``speed`` [m/s] of that edge after a ``ramp`` [s].
+
+    local_damping: PFC local damping while the wall moves (0 = viscous contact damping
+    only). The paper does not say; PFC3D's default, 0.7, acts in every cycle unless the
+    user turns it off (`--set movement.local_damping=0.7` to run that way).
+    """
 
     mode: Literal["T", "RB", "RT", "mixed"] = "T"
     disp_over_H: float = 0.008
     speed: float = 0.02
     ramp: float = 0.05
     record_every: int = 50
+    local_damping: float = 0.0
 
     def __post_init__(self):
         if self.mode not in MODES:
             raise InvalidParameter("mode", self.mode, " | ".join(MODES))
         require_number("disp_over_H", self.disp_over_H, 0, 0.1)
         require_number("speed", self.speed, 0, 1.0, unit="m/s")
+        require_number("local_damping", self.local_damping, 0, 1, lo_open=False)
 
 
 @dataclass(frozen=True)
@@ -501,7 +508,7 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
         t0 = float(specimen.state["time"])
         sim = dem3d.Simulation.from_arrays(specimen.state, walls=_box_walls(wall, rec, _shifted(motion, t0)))
         sim.walls.reset_pivots()              # a new motion, not the stored (fixed) one
-        sim.set_params(_contact(rec, rec.particle_friction, 0.0))
+        sim.set_params(_contact(rec, rec.particle_friction, mv.local_damping))
     else:
         t0 = float(resume["movement.t0"])
         sim = dem3d.Simulation.from_arrays({k: v for k, v in resume.items() if k != "movement.t0"},
