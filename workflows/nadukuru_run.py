@@ -106,7 +106,10 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
                         title="Fig. 5(a): stress on each segment at Delta/H = "
                               f"{case.movement.disp_over_H:g}")
     if "frame" in last:
-        from viz.figures import plot_force_chains
+        from viz.figures import plot_displacement_field, plot_force_chains
+        plot_displacement_field(last["first"].positions, last["frame"].positions, folder.file("fig3a_displacements.png"),
+                                title=f"Fig. 3(a): displacements x15 at Delta/H = {hist['disp_over_H'][-1]:.4f}\n"
+                                      f"{MODE_TITLES[case.movement.mode]}, {wall_kind} wall")
         plot_force_chains(last["frame"], folder.file("fig3b_force_chains.png"),
                           title=f"Force chains at Delta/H = {hist['disp_over_H'][-1]:.4f} "
                                 f"({MODE_TITLES[case.movement.mode]}, {wall_kind} wall)")
