@@ -1,8 +1,8 @@
 """``wallsim compare nadukuru``: specimen (cached), wall movement, theory, paper, outputs.
 
 Writes the run folder (config.toml, manifest.json, result.json, history.csv,
-segments.csv, fig4_K.png, fig5_segments.png, profile.png, recording.rrd) and returns the
-result dict that ``--json`` prints.
+segments.csv, fig3a_displacements.png, fig3b_force_chains.png, fig4_K.png,
+fig5_segments.png, recording.rrd) and returns the result dict that ``--json`` prints.
 """
 
 from __future__ import annotations
