@@ -94,6 +94,7 @@ class RunFolder:
         self.case = case
         self.seed = seed
         self._t0 = time.perf_counter()
+        self.git = git_revision()       # the code this process runs, even if HEAD moves on
 
     @classmethod
     def existing(cls, path: str | Path) -> "RunFolder":
@@ -107,6 +108,7 @@ class RunFolder:
         self.case = path.parent.name
         self.seed = -1
         self._t0 = time.perf_counter()
+        self.git = git_revision()
         return self
 
     def file(self, name: str) -> Path:
@@ -125,7 +127,7 @@ class RunFolder:
             "case": self.case,
             "seed": self.seed,
             "versions": package_versions(),
-            "git": git_revision(),
+            "git": self.git,
             "host": socket.gethostname(),
             "platform": platform.platform(),
             "cpu_count": os.cpu_count(),
