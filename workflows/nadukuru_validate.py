@@ -142,7 +142,8 @@ def _keep_other_walls(report: dict, previous: Path) -> dict:
         entry = report["walls"][wall]
         kept = {m: row | {"git": row.get("git", old_git)} for m, row in old_entry.get("modes", {}).items()
                 if m not in entry["modes"]}
-        entry["modes"] = {m: (entry["modes"] | kept)[m] for m in MODES if m in entry["modes"] or m in kept}
+        merged = entry["modes"] | kept
+        entry["modes"] = {m: merged[m] for m in MODES if m in merged}      # in the table's order
         if "rate_check" not in entry and "rate_check" in old_entry:
             entry["rate_check"] = old_entry["rate_check"] | {"git": old_entry["rate_check"].get("git", old_git)}
     if "triaxial" not in report and "triaxial" in old:
