@@ -226,14 +226,15 @@ def plot_dsm_modes(results: dict, presets: dict, path) -> Path:
 def plot_load_history(curves: dict, path, *, paper: dict | None = None, at_rest: float | None = None,
                       title: str = "", ylabel: str = "load coefficient K (eq. 6)") -> Path:
     """Nadukuru & Michalowski Fig. 4: K against wall movement Delta/H for each mode.
-    curves: {label: (disp_over_H, K)}; paper: {label: K} drawn as dashed levels."""
+    curves: {label: (disp_over_H, K)}; paper: {label: K} drawn as dashed levels;
+    at_rest: the DEM specimen's at-rest K (dotted)."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for (label, (x, y)), c in zip(curves.items(), (f"C{i}" for i in range(10))):
         ax.plot(np.asarray(x), np.asarray(y), color=c, label=f"{label} (DEM)")
         if paper and label in paper:
             ax.axhline(paper[label], color=c, ls="--", lw=0.8, label=f"{label} paper {paper[label]:.3f}")
     if at_rest is not None:
-        ax.axhline(at_rest, color="k", ls=":", lw=0.8, label=f"at rest (paper) {at_rest:.3f}")
+        ax.axhline(at_rest, color="k", ls=":", lw=0.8, label=f"at rest (DEM) {at_rest:.3f}")
     ax.set_xlabel("wall movement Delta / H")
     ax.set_ylabel(ylabel)
     ax.set_ylim(bottom=0)
