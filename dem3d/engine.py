@@ -466,7 +466,8 @@ class Simulation:
     def from_arrays(cls, arrays, walls: Sequence[Wall] = ()) -> "Simulation":
         """Rebuild a Simulation from ``to_arrays`` output (or a loaded .npz). ``walls`` must
         be the same wall groups (same panel count and order) to re-attach their motions;
-        the stored panel poses replace the geometry given in ``walls``."""
+        the stored panels (poses *and* friction) replace those given in ``walls``: to
+        change a wall's friction, edit ``arrays["panels.mu"]`` before calling."""
         # copies: the caller's arrays (e.g. a cached specimen shared by several runs) must
         # not be advanced by this simulation
         a = {k: np.array(arrays[k], copy=True) for k in arrays}
