@@ -466,8 +466,8 @@ class Simulation:
     def from_arrays(cls, arrays, walls: Sequence[Wall] = ()) -> "Simulation":
         """Rebuild a Simulation from ``to_arrays`` output (or a loaded .npz). ``walls`` must
         be the same wall groups (same panel count and order) to re-attach their motions;
-        the stored panels (poses *and* friction) replace those given in ``walls``: to
-        change a wall's friction, edit ``arrays["panels.mu"]`` before calling."""
+        the stored panel poses replace the geometry given in ``walls``; their friction must
+        match the stored one (to change a wall's friction, edit ``arrays["panels.mu"]``)."""
         # copies: the caller's arrays (e.g. a cached specimen shared by several runs) must
         # not be advanced by this simulation
         a = {k: np.array(arrays[k], copy=True) for k in arrays}
@@ -489,6 +489,10 @@ class Simulation:
         if self.walls.n_panels != a["panels.centre"].shape[0]:
             raise InvalidParameter("walls", f"{self.walls.n_panels} panels",
                                    f"the {a['panels.centre'].shape[0]} panels of the checkpoint")
+        if not np.array_equal(self.walls.panels.mu, a["panels.mu"]):
+            # the stored friction would silently win over the one the caller asked for
+            raise InvalidParameter("walls", f"panel friction {self.walls.panels.mu.tolist()}",
+                                   f"the checkpoint's {a['panels.mu'].tolist()} (edit arrays['panels.mu'] to change it)")
         for f in self.walls.panels._fields:
             getattr(self.walls.panels, f)[...] = a[f"panels.{f}"]
         self.walls.pivot[...] = a["walls.pivot"]

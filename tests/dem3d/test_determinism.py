@@ -117,3 +117,19 @@ def test_from_arrays_does_not_share_the_callers_state():
     a = dem3d.Simulation.from_arrays(state, walls=[dem3d.Wall("floor", dem3d.plane((0, 0, 0), (0, 0, 1), 0.5))])
     a.step(2000)
     assert all(np.array_equal(state[k], before[k]) for k in state)
+
+
+def test_from_arrays_refuses_a_wall_friction_the_state_would_override():
+    """The stored panel friction is restored with the state; a different friction passed
+    in ``walls`` would be silently ignored, so it is refused (one-line InvalidParameter)."""
+    import dem3d
+    from analytic.errors import InvalidParameter
+    spec = dem3d.Specimen(np.array([[0.5, 0.5, 0.2]]), np.array([0.05]), None, 2650.0)
+    sim = dem3d.Simulation(spec, dem3d.linear(1e6, 4e5, 0.5, zeta_n=0.2), dt=1e-5,
+                           walls=[dem3d.Wall("floor", dem3d.plane((0, 0, 0), (0, 0, 1), 0.5))])
+    state = sim.to_arrays()
+    with pytest.raises(InvalidParameter, match="walls"):
+        dem3d.Simulation.from_arrays(state, walls=[dem3d.Wall("floor", dem3d.plane((0, 0, 0), (0, 0, 1), 0.35))])
+    state["panels.mu"] = np.array([0.35])
+    restored = dem3d.Simulation.from_arrays(state, walls=[dem3d.Wall("floor", dem3d.plane((0, 0, 0), (0, 0, 1), 0.35))])
+    assert restored.walls.panels.mu[0] == 0.35
