@@ -237,6 +237,7 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
         "porosity_interior": bf.interior_porosity,
         "specimen_reused": reused,
         "specimen": str(cache),
+        "dis_over_H_active": float(act.dis / H),      # where the "active" figures are read (the last record)
         "phi_biaxial_source": phi_info.get("from"),
         "dem": {
             "phi_biaxial": phi,

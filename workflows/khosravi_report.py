@@ -15,6 +15,12 @@ def _check(ok: bool | None) -> str:
     return "n/a" if ok is None else ("yes" if ok else "**no**")
 
 
+def _dis_active(result: dict) -> str:
+    """Dis/H of the record the active figures are read at (results before it was stored: n/a)."""
+    x = result.get("dis_over_H_active")
+    return "n/a" if x is None else f"{x:.4g}"
+
+
 def assess(result: dict, ref: dict) -> list[dict]:
     """Each 'done when' item of the issue with the measured figure and whether it holds."""
     d = result["dem"]
@@ -32,7 +38,7 @@ def assess(result: dict, ref: dict) -> list[dict]:
         {"item": "active profile below at-rest everywhere",
          "measured": "all reading points" if d["active_below_at_rest_everywhere"] else "not at every reading point",
          "ok": d["active_below_at_rest_everywhere"]},
-        {"item": "active total thrust below Rankine's",
+        {"item": f"active total thrust below Rankine's (at Dis/H = {_dis_active(result)})",
          "measured": f"{d['active_thrust_over_rankine']:.3f} x Rankine",
          "ok": d["active_thrust_over_rankine"] < tg["active_thrust_over_rankine_below"]},
         {"item": "steady state reached by Dis/H <= 0.003",
@@ -89,7 +95,7 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         + (" (specimen reused from its checkpoint)" if res.get("specimen_reused") else "")
         + f", at rest {t.get('at_rest_s', float('nan')) / 60:.1f} min, translation "
           f"{t.get('translation_s', float('nan')) / 60:.1f} min, biaxial {t.get('biaxial_s', float('nan')) / 60:.1f} min, "
-          f"total {t.get('total', float('nan')) / 60:.1f} min on {manifest.get('cpu_count', '?')} cores shared with other jobs"
+          f"total {t.get('total', float('nan')) / 60:.1f} min on {manifest.get('cpu_count', '?')} cores"
         + (f" (CPU time of the run {t['cpu_total'] / 60:.1f} min)" if "cpu_total" in t else ""),
         "",
         "## Done-when items (issue 6)",
@@ -110,9 +116,9 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         f"* Paper: the pressure drops sharply to Dis/H = 0.0002-0.0005, then is steady. Here: 90 % of the drop "
         f"by Dis/H = {d['dis_over_H_steady']:.5f}.",
         "",
-        "Reading points (4 panels each, z/H of their centres) as sigma_h / (gamma H):",
+        "Reading points (4 panels each; z = depth of their centre below the fill surface) as sigma_h / (gamma H):",
         "",
-        "| z/H | at rest | active (Dis/H = 0.003) |",
+        f"| z/H | at rest | active (Dis/H = {_dis_active(res)}) |",
         "|---|---|---|",
     ]
     r = res["readings"]
