@@ -26,6 +26,10 @@ def assess(result: dict, ref: dict) -> list[dict]:
     d = result["dem"]
     tg = ref["targets"]
     rel = abs(d["K_at_rest_upper_half_over_jaky"] - 1.0)
+    # steadiness is measured against the run's last value: only a run that goes well past
+    # the target Dis/H can show the pressure still falling after it
+    end = result.get("dis_over_H_active")
+    judged = end is not None and end >= 2 * tg["dis_over_H_steady_at_most"]
     return [
         {"item": "at-rest K, upper half, within 15 % of 1 - sin(phi_biaxial)",
          "measured": f"K = {d['K_at_rest_upper_half']:.3f} vs {d['jaky_K0']:.3f} ({100 * (d['K_at_rest_upper_half_over_jaky'] - 1):+.1f} %)",
@@ -42,8 +46,10 @@ def assess(result: dict, ref: dict) -> list[dict]:
          "measured": f"{d['active_thrust_over_rankine']:.3f} x Rankine",
          "ok": d["active_thrust_over_rankine"] < tg["active_thrust_over_rankine_below"]},
         {"item": "steady state reached by Dis/H <= 0.003",
-         "measured": f"Dis/H = {d['dis_over_H_steady']:.5f} (90 % of the drop), {d['dis_over_H_steady_95']:.5f} (95 %)",
-         "ok": d["dis_over_H_steady"] <= tg["dis_over_H_steady_at_most"]},
+         "measured": f"Dis/H = {d['dis_over_H_steady']:.5f} (90 % of the drop to the run's end), "
+                     f"{d['dis_over_H_steady_95']:.5f} (95 %)" + ("" if judged else
+                     "; the run ends at the target, so this cannot show a later fall"),
+         "ok": d["dis_over_H_steady"] <= tg["dis_over_H_steady_at_most"] if judged else None},
         {"item": "vertical reactions = weight",
          "measured": f"{d['weight_balance']:.4f}",
          "ok": abs(d["weight_balance"] - 1) <= tg["weight_balance_abs_tol"]},
