@@ -58,6 +58,9 @@ class KhosraviCase:
     far_wall_friction: particle-far-wall coefficient (0 = smooth)
     wall_speed:       translation speed of the wall away from the backfill [m/s]
     dis_over_H_max:   end of the translation, Dis/H
+    dis_over_H_active: where the active profile and thrust are read, Dis/H (the paper's
+                      0.003; at the end if the wall stops earlier). Moving on past it is
+                      what lets the steadiness of the pressure be judged
     window:           averaging window of the pressure cells [s]
     rest_time:        extra settling before the at-rest reading [s]
     seed:             random seed (grading, cloud positions, insertion order)
@@ -77,6 +80,7 @@ class KhosraviCase:
     far_wall_friction: float = 0.0
     wall_speed: float = 2e-3
     dis_over_H_max: float = 0.003
+    dis_over_H_active: float = 0.003
     window: float = 0.01
     rest_time: float = 0.05
     seed: int = 1
@@ -93,6 +97,7 @@ class KhosraviCase:
         require_number("friction", self.friction, 0.0, None, lo_open=False)
         require_number("wall_speed", self.wall_speed, 0.0, None, unit="m/s")
         require_number("dis_over_H_max", self.dis_over_H_max, 0.0, 0.1)
+        require_number("dis_over_H_active", self.dis_over_H_active, 0.0, 0.1)
         require_number("window", self.window, 0.0, None, unit="s")
         if not (isinstance(self.n_panels, int) and self.n_panels >= 1):
             raise InvalidParameter("n_panels", self.n_panels, "an integer >= 1")

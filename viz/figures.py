@@ -97,8 +97,8 @@ def plot_khosravi_vs_displacement(dis_over_H, series: dict, path, *, title: str 
 
 
 def plot_khosravi_profiles(z_over_H, sigma_rest, sigma_active, theories, path, *, jaky_K: float,
-                           gamma: float, H: float, title: str = "") -> Path:
-    """Khosravi et al. Fig. 13 style: at rest and active (Dis/H = 0.003) readings against
+                           gamma: float, H: float, dis_over_H: float = 0.003, title: str = "") -> Path:
+    """Khosravi et al. Fig. 13 style: at rest and active (at ``dis_over_H``) readings against
     z/H with Jaky (at rest) and Rankine, Handy, Paik-Salgado, Khosravi (active).
     ``theories``: Profiles (sigma_h in Pa, z in m), normalised here by gamma H."""
     fig, axes = plt.subplots(1, 2, figsize=(10, 6), sharey=True)
@@ -112,7 +112,7 @@ def plot_khosravi_profiles(z_over_H, sigma_rest, sigma_active, theories, path, *
         ls, c = _STYLE.get(p.method, ("-", None))
         label = p.method + (" (reconstruction)" if p.status != "verified" else "")
         ax.plot(p.sigma_h / (gamma * H), p.z / H, ls, color=c, label=label)
-    ax.plot(sigma_active, z_over_H, "ko-", label="DEM Dis/H = 0.003")
+    ax.plot(sigma_active, z_over_H, "ko-", label=f"DEM Dis/H = {dis_over_H:.4g}")
     ax.set_title("(b) active")
     for ax in axes:
         ax.set_ylim(1.02, 0)

@@ -28,7 +28,7 @@ def assess(result: dict, ref: dict) -> list[dict]:
     rel = abs(d["K_at_rest_upper_half_over_jaky"] - 1.0)
     # steadiness is measured against the run's last value: only a run that goes well past
     # the target Dis/H can show the pressure still falling after it
-    end = result.get("dis_over_H_active")
+    end = result.get("dis_over_H_end", result.get("dis_over_H_active"))
     judged = end is not None and end >= 2 * tg["dis_over_H_steady_at_most"]
     return [
         {"item": "at-rest K, upper half, within 15 % of 1 - sin(phi_biaxial)",

@@ -31,6 +31,7 @@ def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, 
     assert len(runs) == 1
     names = {p.name for p in runs[0].iterdir()}
     for f in ("config.toml", "manifest.json", "result.json", "at_rest_panels.csv", "readings_vs_displacement.csv",
+              "panels_vs_displacement.csv",
               "fig10_at_rest.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png"):
         assert f in names
     man = json.loads((runs[0] / "manifest.json").read_text())
