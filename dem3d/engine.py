@@ -102,10 +102,12 @@ class Simulation:
         bodies = _body_ranges(labels)
         if periodic is not None:
             _check_periodic(periodic, float(radii.max()), self.skin)
+        starts = np.array([a for a, _ in bodies], np.int64)
+        ends = np.array([b for _, b in bodies], np.int64)
         order = np.arange(len(bodies))
         if sort_by_cell:
-            order = self._locality_order(pos, radii, bodies)
-        new_to_old = np.concatenate([np.arange(bodies[b][0], bodies[b][1]) for b in order])
+            order = self._locality_order(pos, radii, starts, ends)
+        new_to_old, _ = _gather_ranges(starts, ends, order)
         self.original_index = new_to_old
         pos, radii, labels, vel = pos[new_to_old], radii[new_to_old], labels[new_to_old], vel[new_to_old]
         self.spheres, self.clumps = _build_bodies(pos, radii, labels, vel, density)
@@ -297,8 +299,10 @@ class Simulation:
             inv_h = np.where(extent > 0, nc / np.where(extent > 0, extent, 1.0), 0.0)
         return lo, inv_h, nc
 
-    def _locality_order(self, pos, radii, bodies) -> np.ndarray:
-        centres = np.array([pos[a:b].mean(axis=0) for a, b in bodies])
+    def _locality_order(self, pos, radii, starts, ends) -> np.ndarray:
+        # body centre = mean of its spheres (the sum of a body's rows in sphere order, as
+        # ndarray.mean takes it, so the order does not depend on how it is computed)
+        centres = np.add.reduceat(pos, starts, axis=0) / (ends - starts)[:, None]
         lo, inv_h, nc = self._grid(centres, float(radii.max()))
         return kernels.body_cell_order(centres, lo, inv_h, nc)
 
@@ -331,35 +335,27 @@ class Simulation:
         floating-point sums."""
         sph = self.spheres
         n = self.n_spheres
-        bodies = []
-        i = 0
-        while i < n:
-            c = sph.clump[i]
-            j = i + 1 if c < 0 else int(self.clumps.members[c, 1])
-            bodies.append((i, j))
-            i = j
-        order = self._locality_order(sph.x, sph.r, bodies)
-        new_to_old = np.concatenate([np.arange(*bodies[b]) for b in order]).astype(np.int64)
+        # a body starts at every free sphere and at the first member of every clump
+        first = np.ones(n, bool)
+        first[1:] = (sph.clump[1:] < 0) | (sph.clump[1:] != sph.clump[:-1])
+        starts = np.flatnonzero(first).astype(np.int64)
+        ends = np.append(starts[1:], n).astype(np.int64)
+        order = self._locality_order(sph.x, sph.r, starts, ends)
+        new_to_old, new_start = _gather_ranges(starts, ends, order)
         if np.array_equal(new_to_old, np.arange(n)):
             self._rebuild()
             return new_to_old
-        clump_order = np.array([sph.clump[bodies[b][0]] for b in order if sph.clump[bodies[b][0]] >= 0], np.int64)
+        head_clump = sph.clump[starts[order]]
+        is_clump = head_clump >= 0
+        clump_order = head_clump[is_clump].astype(np.int64)
         new_clump = -np.ones(len(self.clumps.x), np.int64)
         new_clump[clump_order] = np.arange(len(clump_order))
         fields = {f: np.ascontiguousarray(getattr(sph, f)[new_to_old]) for f in Spheres._fields}
         member = fields["clump"] >= 0
         fields["clump"][member] = new_clump[fields["clump"][member]]
-        members = np.zeros((len(clump_order), 2), np.int64)
-        body_id = np.arange(n, dtype=np.int64)
-        k = 0
-        for b in order:
-            a, e = bodies[b]
-            if sph.clump[a] >= 0:
-                c = new_clump[sph.clump[a]]
-                members[c] = (k, k + e - a)
-                body_id[k:k + e - a] = k
-            k += e - a
-        fields["body_id"] = body_id
+        length = (ends - starts)[order]
+        members = np.stack([new_start[is_clump], new_start[is_clump] + length[is_clump]], axis=1).astype(np.int64)
+        fields["body_id"] = np.repeat(new_start, length).astype(np.int64)   # free sphere: itself
         self.spheres = Spheres(**fields)
         clu = self.clumps
         self.clumps = Clumps(**{f: np.ascontiguousarray(getattr(clu, f)[clump_order]) for f in Clumps._fields
@@ -519,6 +515,16 @@ class Simulation:
 # --------------------------------------------------------------------------------------
 # construction helpers
 # --------------------------------------------------------------------------------------
+
+def _gather_ranges(starts: np.ndarray, ends: np.ndarray, order: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Concatenate the index ranges [starts[b], ends[b]) for b in ``order``: (new_to_old,
+    where each body starts in the new order)."""
+    length = (ends - starts)[order]
+    new_start = np.zeros(len(order), np.int64)
+    np.cumsum(length[:-1], out=new_start[1:])
+    within = np.arange(int(length.sum()), dtype=np.int64) - np.repeat(new_start, length)
+    return (np.repeat(starts[order], length) + within).astype(np.int64), new_start
+
 
 def _body_ranges(labels: np.ndarray) -> list[tuple[int, int]]:
     """[start, end) sphere ranges of bodies: each free sphere alone, each clump's run."""
