@@ -165,12 +165,15 @@ class SettleResult(NamedTuple):
 
 
 def settle(sim: Simulation, *, ratio: float = 1e-3, check_every: int = 200, max_steps: int = 200_000,
-           min_steps: int = 0) -> SettleResult:
+           min_steps: int = 0, trace: list | None = None) -> SettleResult:
     """Step ``sim`` (particles falling and settling under gravity: raining when the
     specimen was generated above its final height) until PFC's unbalanced-force ratio
     (dem3d.measure.unbalanced_force_ratio) falls below ``ratio``, checked every
     ``check_every`` steps after ``min_steps``. Local damping, if wanted, is set on the
-    contact parameters beforehand (``dem3d.params.with_local_damping``)."""
+    contact parameters beforehand (``dem3d.params.with_local_damping``).
+
+    ``trace``, if given, gets one (steps taken, ratio, kinetic energy [J]) per check: how
+    a stage approached (or missed) its ratio, for reports on preparation time."""
     ratio = require_number("ratio", ratio, 0.0, None)
     taken = 0
     current = math.inf
@@ -181,6 +184,8 @@ def settle(sim: Simulation, *, ratio: float = 1e-3, check_every: int = 200, max_
         if taken < min_steps:
             continue
         current = unbalanced_force_ratio(sim)
+        if trace is not None:
+            trace.append((taken, current, kinetic_energy(sim)))
         if current < ratio:
             return SettleResult(taken, current, kinetic_energy(sim), True)
     return SettleResult(taken, current, kinetic_energy(sim), False)

@@ -301,12 +301,17 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     #    viscous damping only (local damping would slow the fall to 0.3 g), raised gravity
     import time as _time
     stages = {}
-    tic = _time.perf_counter()
+    tic, cpu = _time.perf_counter(), _time.process_time()
+    trace = []      # the settle ratio and kinetic energy of the current stage, every check
 
     def stage(name, n):
-        nonlocal tic
-        stages[name] = {"steps": int(n), "wall_s": round(_time.perf_counter() - tic, 1)}
-        tic = _time.perf_counter()
+        nonlocal tic, cpu
+        # cpu_s counts every thread: cpu_s / wall_s is the number of cores the stage used
+        stages[name] = {"steps": int(n), "wall_s": round(_time.perf_counter() - tic, 1),
+                        "cpu_s": round(_time.process_time() - cpu, 1),
+                        "trace": [[int(k), float(f"{r:.4g}"), float(f"{e:.4g}")] for k, r, e in trace]}
+        trace.clear()
+        tic, cpu = _time.perf_counter(), _time.process_time()
 
     soft = rec.deposition_softening
     dt_soft = dt * math.sqrt(soft)
@@ -318,7 +323,7 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")
     stage("fall", steps)
     sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping, soft))
-    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft))
+    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft), trace=trace)
     steps += res.steps
     stage("pack", res.steps)
     # B. unload to the lock-in gravity (overlaps shrink), trim to H, then the paper's
@@ -329,11 +334,11 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     stages["in_front_of_wall"] = int(np.sum(sim.spheres.x[:, 0] < 0.0))   # removed by the trim; 0 with the guard
     sim = _trim(sim, H, walls, rec, dt)      # paper stiffness, still the deposition friction
     sim.gravity = np.array([0.0, 0.0, -g_low])
-    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt))
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt), trace=trace)
     steps += res.steps
     stage("stiffen", res.steps)
     sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
-    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=trace)
     steps += res.steps
     stage("friction on", res.steps)
     # C. load to full gravity with friction on: a 1D compression of the whole fill
@@ -341,7 +346,7 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
         for k in range(1, 11):
             sim.gravity = np.array([0.0, 0.0, -(g_low + (G - g_low) * k / 10)])
             steps += _advance(sim, 500, None, "")
-        res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt))
+        res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=trace)
         steps += res.steps
         stage("load to g", res.steps + 5000)
     # measure with local damping off: the wall sees the true static state

@@ -72,9 +72,14 @@ def test_settle_reaches_the_unbalanced_force_ratio_and_the_pile_is_static():
     sim = Simulation(spec, linear(1e5, 4e4, 0.5, zeta_n=0.3, zeta_s=0.3), dt=4e-5,
                      walls=[Wall("box", box(lo, (0.3, 0.2, 1.0), mu=0.3, periodic_axis=1))],
                      periodic=Periodic(1, 0.0, 0.2))
-    result = prep.settle(sim, ratio=1e-3, check_every=1000, max_steps=200_000)
+    trace = []
+    result = prep.settle(sim, ratio=1e-3, check_every=1000, max_steps=200_000, trace=trace)
     assert result.converged and result.ratio < 1e-3
     assert measure.unbalanced_force_ratio(sim) == result.ratio
+    # the trace is every check: only its last ratio is below the threshold
+    assert [row[0] for row in trace] == list(range(1000, result.steps + 1, 1000))
+    assert trace[-1][1:] == (result.ratio, result.kinetic_energy)
+    assert all(row[1] >= 1e-3 for row in trace[:-1])
     weight = 9.81 * sim.body_masses().sum()
     f = frame(sim)
     n_bodies = len(sim.body_masses())
