@@ -350,12 +350,22 @@ def _nadukuru_case(args):
     return dataclasses.replace(apply_sets(case, args.set))
 
 
+def _note_if_busy() -> None:
+    from workflows.progress import busy_machine_note
+
+    note = busy_machine_note()
+    if note:
+        sys.stderr.write(note + "\n")
+
+
 def _cmd_compare_nadukuru(args) -> int:
     from pathlib import Path
 
     from workflows.nadukuru_run import compare_nadukuru
     from workflows.progress import progress
     from workflows.report import nadukuru_text
+
+    _note_if_busy()
 
     if args.resume:
         args.config = str(Path(args.resume) / "config.toml")
@@ -394,6 +404,8 @@ def _cmd_calibrate_triaxial(args) -> int:
     from workflows.progress import progress
     from workflows.triaxial import TriaxialSetup, calibrate_triaxial
 
+    _note_if_busy()
+
     case = _nadukuru_case(args)
     with progress(args.quiet) as bar:
         card, path = calibrate_triaxial(case, TriaxialSetup(confining=args.confining * 1e3),
@@ -431,6 +443,8 @@ def _cmd_validate_nadukuru(args) -> int:
     from workflows.nadukuru import MODES
     from workflows.nadukuru_validate import validate_nadukuru
     from workflows.progress import progress
+
+    _note_if_busy()
 
     walls = [w.strip() for w in args.walls.split(",") if w.strip()]
     modes = [m.strip() for m in args.modes.split(",") if m.strip()]

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from contextlib import contextmanager
@@ -82,3 +83,24 @@ def progress(quiet: bool = False):
             TimeElapsedColumn(), TimeRemainingColumn(), TextColumn("{task.fields[status]}"))
     with Progress(*cols, console=Console(stderr=True), transient=False) as bar:
         yield bar
+
+
+def busy_machine_note() -> str | None:
+    """One line for stderr when the numba threads of this run will compete with other
+    work (the 1-min load average leaves fewer idle cores than threads), else None.
+
+    Why: numba's TBB layer waits at every parallel loop for a thread that has no core;
+    beside one other job a 2-thread specimen preparation ran 3.5x slower than on 1
+    thread (docs/validation/nadukuru.md, "Time")."""
+    import numba
+
+    threads = int(numba.config.NUMBA_NUM_THREADS)
+    cores = os.cpu_count() or 1
+    try:
+        load = os.getloadavg()[0]
+    except (OSError, AttributeError):
+        return None
+    if threads < 2 or load <= cores - threads + 0.8:
+        return None
+    return (f"note: the machine is busy (1-min load {load:.1f} on {cores} cores) and this run uses {threads} "
+            f"numba threads; beside other jobs NUMBA_NUM_THREADS=1 is usually several times faster")

@@ -84,6 +84,20 @@ def _toml_ready(obj):
     return obj
 
 
+def _load_average() -> float | None:
+    try:
+        return round(os.getloadavg()[0], 2)
+    except (OSError, AttributeError):      # not on every platform
+        return None
+
+
+def _numba_threads():
+    numba = sys.modules.get("numba")       # a 2D-only run never imports it
+    if numba is None:
+        return os.environ.get("NUMBA_NUM_THREADS", "default")
+    return int(numba.config.NUMBA_NUM_THREADS)
+
+
 class RunFolder:
     """A run's output folder. Created on construction; every writer returns the path."""
 
@@ -95,6 +109,7 @@ class RunFolder:
         self.seed = seed
         self._t0 = time.perf_counter()
         self.git = git_revision()       # the code this process runs, even if HEAD moves on
+        self.load_at_start = _load_average()
 
     @classmethod
     def existing(cls, path: str | Path) -> "RunFolder":
@@ -109,6 +124,7 @@ class RunFolder:
         self.seed = -1
         self._t0 = time.perf_counter()
         self.git = git_revision()
+        self.load_at_start = _load_average()
         return self
 
     def file(self, name: str) -> Path:
@@ -131,7 +147,9 @@ class RunFolder:
             "host": socket.gethostname(),
             "platform": platform.platform(),
             "cpu_count": os.cpu_count(),
-            "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
+            "numba_threads": _numba_threads(),
+            # wall times mean little without it: other jobs on the cores slow a run 2-3x
+            "load_average_1min": {"start": self.load_at_start, "end": _load_average()},
             "command": " ".join(sys.argv),
             "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
             "wall_time_s": time.perf_counter() - self._t0,

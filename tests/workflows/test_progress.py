@@ -15,3 +15,23 @@ def test_log_file_progress_prints_per_interval_and_once_at_the_end():
     text = out.getvalue().splitlines()
     assert len(text) == 1
     assert "wall movement T: 4/4 (100 %)" in text[0] and "K 0.21" in text[0]
+
+
+def test_busy_machine_note_only_when_threads_exceed_the_idle_cores(monkeypatch):
+    """2 numba threads on 2 cores: a note when another job keeps a core busy (load ~1),
+    none on an idle machine or with 1 thread (docs/validation/nadukuru.md, "Time": a
+    2-thread preparation beside one job ran 3.5x slower than 1 thread)."""
+    import numba
+
+    from workflows import progress
+
+    monkeypatch.setattr(progress.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(numba.config, "NUMBA_NUM_THREADS", 2)
+    monkeypatch.setattr(progress.os, "getloadavg", lambda: (1.9, 1.5, 1.2))
+    note = progress.busy_machine_note()
+    assert note is not None and "NUMBA_NUM_THREADS=1" in note and "1.9 on 2 cores" in note
+    monkeypatch.setattr(progress.os, "getloadavg", lambda: (0.4, 0.5, 0.6))
+    assert progress.busy_machine_note() is None
+    monkeypatch.setattr(numba.config, "NUMBA_NUM_THREADS", 1)
+    monkeypatch.setattr(progress.os, "getloadavg", lambda: (3.0, 3.0, 3.0))
+    assert progress.busy_machine_note() is None

@@ -12,3 +12,13 @@ def test_manifest_git_is_taken_at_start(tmp_path, monkeypatch):
     monkeypatch.setattr(runfolder, "git_revision", lambda repo=None: "bbbbbbb")   # HEAD moved on
     man = json.loads(rf.write_manifest(particles=10).read_text())
     assert man["git"] == "aaaaaaa" and man["seed"] == 3 and man["particles"] == 10
+
+
+def test_manifest_keeps_the_machine_load_at_start_and_end(tmp_path, monkeypatch):
+    """Wall times are only comparable with the load they ran under (a second job on the
+    two cores slowed runs 2-3x): the manifest records the 1-min load average."""
+    loads = iter([(1.5, 1.0, 1.0), (0.25, 0.5, 0.5)])
+    monkeypatch.setattr(runfolder.os, "getloadavg", lambda: next(loads))
+    rf = runfolder.RunFolder("case", 1, root=tmp_path)
+    man = json.loads(rf.write_manifest().read_text())
+    assert man["load_average_1min"] == {"start": 1.5, "end": 0.25}
