@@ -87,7 +87,9 @@ def progress(quiet: bool = False):
 
 def busy_machine_note() -> str | None:
     """One line for stderr when the numba threads of this run will compete with other
-    work (the 1-min load average leaves fewer idle cores than threads), else None.
+    work (fewer idle cores than threads, measured over 0.3 s while this process sleeps),
+    else None. The 1-min load average is not used: it still reads ~1 for a minute after
+    the previous job has ended.
 
     Why: numba's TBB layer waits at every parallel loop for a thread that has no core;
     beside one other job a 2-thread specimen preparation ran 3.5x slower than on 1
@@ -96,11 +98,29 @@ def busy_machine_note() -> str | None:
 
     threads = int(numba.config.NUMBA_NUM_THREADS)
     cores = os.cpu_count() or 1
+    if threads < 2:
+        return None
+    busy = busy_cores()
+    if busy is None or cores - busy >= threads - 0.5:
+        return None
+    return (f"note: the machine is busy ({busy:.1f} of {cores} cores in use by other work) and this run uses "
+            f"{threads} numba threads; beside other jobs NUMBA_NUM_THREADS=1 is usually several times faster")
+
+
+def busy_cores(interval: float = 0.3) -> float | None:
+    """Cores kept busy by other processes over ``interval`` seconds while this one sleeps
+    (Linux /proc/stat; None elsewhere)."""
+    def snapshot():
+        with open("/proc/stat") as fh:
+            ticks = [int(x) for x in fh.readline().split()[1:]]
+        return sum(ticks), ticks[3] + ticks[4]          # all, idle + iowait
+
     try:
-        load = os.getloadavg()[0]
-    except (OSError, AttributeError):
+        total0, idle0 = snapshot()
+        time.sleep(interval)
+        total1, idle1 = snapshot()
+    except (OSError, ValueError, IndexError):
         return None
-    if threads < 2 or load <= cores - threads + 0.8:
+    if total1 <= total0:
         return None
-    return (f"note: the machine is busy (1-min load {load:.1f} on {cores} cores) and this run uses {threads} "
-            f"numba threads; beside other jobs NUMBA_NUM_THREADS=1 is usually several times faster")
+    return (1.0 - (idle1 - idle0) / (total1 - total0)) * (os.cpu_count() or 1)
