@@ -1,7 +1,10 @@
 """Progress of a long run is readable in a log file (nohup / batch), once per interval."""
 
 import io
+import sys
 import time
+
+import pytest
 
 from workflows.progress import _Lines
 
@@ -38,17 +41,15 @@ def test_busy_machine_note_only_when_threads_exceed_the_idle_cores(monkeypatch):
     assert progress.busy_machine_note() is None
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="busy_cores reads /proc/stat (Linux only)")
 def test_busy_cores_sees_a_spinning_process():
     """One process spinning on a core while we sleep reads as about one busy core (this
     machine has 2; other work can only add to it). A fresh interpreter, not a fork: this
     test process may hold numba threads."""
     import subprocess
-    import sys
 
     from workflows import progress
 
-    if not sys.platform.startswith("linux"):
-        return
     idle = progress.busy_cores(0.3)
     spinner = subprocess.Popen([sys.executable, "-c", "while True: pass"])
     try:
