@@ -15,6 +15,7 @@ so the caller can draw frames, show progress or stop.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Iterator, NamedTuple
@@ -50,6 +51,16 @@ class Pluviation:
     max_layer_time:   release the next layer after this even if not settled [s]
     final_settle_time: at most this long for the last layer [s]
     check_every:      steps between settling checks
+    hold_depth:       when > 0, grains whose centre lies deeper than this below the
+                      surface are held static while the next layers fall (``Sim.hold``;
+                      grains within ``hold_margin`` of a wall or the floor are never
+                      held, so the pressure cells keep their contacts) and all are
+                      released, with their contact impulses, before the last layer
+                      settles [m]. 0 = the whole deposit moves throughout
+    hold_margin:      the strip along the walls and floor that is never held, in
+                      largest grain diameters [-]
+    layer_dt:         time step while the layers fall and settle [s] (None = the
+                      solver's); the last layer always settles at the solver's dt
     """
 
     layer_thickness: float = 0.02
@@ -64,6 +75,9 @@ class Pluviation:
     max_layer_time: float = 0.4
     final_settle_time: float = 1.0
     check_every: int = 50
+    hold_depth: float = 0.0
+    hold_margin: float = 2.0
+    layer_dt: float | None = None
 
     def __post_init__(self):
         require_number("layer_thickness", self.layer_thickness, 0.0, None, unit="m")
@@ -76,6 +90,10 @@ class Pluviation:
         require_number("final_ratio", self.final_ratio, 0.0, None)
         if not (isinstance(self.check_every, int) and self.check_every >= 1):
             raise InvalidParameter("check_every", self.check_every, "an integer >= 1")
+        require_number("hold_depth", self.hold_depth, 0.0, None, lo_open=False, unit="m")
+        require_number("hold_margin", self.hold_margin, 0.0, None, lo_open=False)
+        if self.layer_dt is not None:
+            require_number("layer_dt", self.layer_dt, 0.0, 0.01, unit="s")
 
 
 class LayerStatus(NamedTuple):
@@ -167,6 +185,10 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
     deposited_area = float(np.sum(np.pi * sim.grains.circle_radius**2))  # > 0 when resumed
     d50 = grading.d50
     sim.space.damping = p.damping
+    solver = sim.solver
+    if p.layer_dt is not None:
+        sim.set_solver(dataclasses.replace(solver, dt=p.layer_dt))
+    keep_free = p.hold_margin * grading.d_max
     try:
         for layer in range(1, n_layers + 1):
             if len(sim.grains):
@@ -185,13 +207,21 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
                 continue  # resumed from a checkpoint: this layer is already there
             area_needed = (goal - max(surf - floor, 0.0)) * width * frac
             n = max(int(round(area_needed / grading.mean_area())), 0)
+            last = layer == n_layers
+            if last:
+                sim.release_all()
+                sim.set_solver(solver)
+            elif p.hold_depth > 0 and len(sim.grains):
+                x, y = st.position[:, 0], st.position[:, 1]
+                deep = ((y < surf - p.hold_depth) & (x - x0 > keep_free) & (x1 - x > keep_free)
+                        & (y - floor > keep_free))
+                sim.hold(np.flatnonzero(deep))
             first = len(sim.grains)
             if n:
                 centres, radii = cloud(n, grading, sim.rng, x0 + margin, x1 - margin,
                                        max(surf, floor) + p.drop_height, p.cloud_fraction)
                 add_disks(sim.space, sim.grains, centres, radii, material, sim.rng)
                 deposited_area += float(np.sum(np.pi * radii**2))
-            last = layer == n_layers
             mass = sim.masses()
             sel = slice(0, None) if last else slice(first, None)
             m_sel = mass[sel]
@@ -216,3 +246,5 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
                     break
     finally:
         sim.space.damping = 1.0
+        if sim.solver.dt != solver.dt:
+            sim.set_solver(solver)

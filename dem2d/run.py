@@ -94,7 +94,12 @@ class KhosraviRun:
                           height=c.H, settings=c.pluviation):
             yield s
             if last is not None and s.layer != last.layer:
-                layer_readings.append((last.layer, last.surface, self.reading(0.2 * c.window).sigma))
+                sigma = self.reading(0.2 * c.window).sigma
+                if c.pluviation.hold_depth > 0:
+                    # below the held grains the cells see only the free strip along the wall
+                    w = sim.walls["wall"]
+                    sigma = np.where(w.centres()[:, 1] < last.surface - c.pluviation.hold_depth, np.nan, sigma)
+                layer_readings.append((last.layer, last.surface, sigma))
             last = s
         self.backfill = self._describe(layer_readings)
         sim.meta["backfill"] = self.backfill

@@ -126,6 +126,62 @@ class Sim:
             self.space.collision_slop = solver.slop_fraction * r_min
         self.solver = solver
 
+    # ------------------------------------------------------------------ holding grains
+    def _stable_bodies(self) -> list:
+        """Grains in creation order, then every wall panel body in wall order: an
+        indexing of the bodies that survives snapshots (pymunk's own order does not)."""
+        return list(self.grains.bodies) + [b for w in self.walls.values() for b in w.bodies]
+
+    def held(self) -> np.ndarray:
+        """(n,) True for grains held static by ``hold``."""
+        return np.array([b.body_type == pymunk.Body.STATIC for b in self.grains.bodies], bool)
+
+    def hold(self, index: np.ndarray) -> int:
+        """Hold grains ``index`` (creation indices) static where they are: a static body
+        leaves the solver and the per-step rehash of the broad phase, so a settled deposit
+        under the layer that is falling costs almost nothing per step. Contacts between
+        two held grains, or a held grain and a wall, are dropped by Chipmunk (two bodies
+        of infinite mass); their accumulated impulses are kept here so ``release_all``
+        can warm-start them. Returns the number of grains newly held."""
+        bodies = self._stable_bodies()
+        held = self.held()
+        new = np.zeros(len(bodies), bool)
+        idx = np.asarray(index, dtype=np.int64)
+        idx = idx[~held[idx]]
+        if len(idx) == 0:
+            return 0
+        new[idx] = True
+        still = np.zeros(len(bodies), bool)  # non-dynamic after this call
+        still[:len(held)] = held
+        still[len(held):] = True  # wall panels (kinematic)
+        still |= new
+        c = _contact_impulses(self.space, bodies)
+        keep = (new[c["a"]] | new[c["b"]]) & still[c["a"]] & still[c["b"]]
+        saved = self.meta.setdefault("held_contacts", {"a": np.zeros(0, np.int64), "b": np.zeros(0, np.int64),
+                                                       "impulse": np.zeros((0, 2))})
+        for k in ("a", "b", "impulse"):
+            saved[k] = np.concatenate([saved[k], c[k][keep]])
+        mm = self.meta.setdefault("held_mass", {})
+        for i in idx.tolist():
+            b = self.grains.bodies[i]
+            mm[i] = (b.mass, b.moment)
+            b.body_type = pymunk.Body.STATIC
+        return len(idx)
+
+    def release_all(self) -> int:
+        """Make every held grain dynamic again (mass and moment as before) and arm the
+        next step to give the contacts dropped while they were held their saved
+        impulses (the warm start of ``restore``). Returns the number released."""
+        mm = self.meta.pop("held_mass", {})
+        for i, (m, moment) in mm.items():
+            b = self.grains.bodies[i]
+            b.body_type = pymunk.Body.DYNAMIC
+            b.mass, b.moment = m, moment
+        c = self.meta.pop("held_contacts", None)
+        if c is not None and len(c["a"]):
+            _warm_start(self.space, self._stable_bodies(), c, self.solver.dt)
+        return len(mm)
+
     # ------------------------------------------------------------------ snapshots
     def snapshot(self) -> bytes:
         """Bytes that ``restore`` turns back into this model (module docstring)."""
