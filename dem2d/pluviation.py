@@ -61,6 +61,14 @@ class Pluviation:
                       largest grain diameters [-]
     layer_dt:         time step while the layers fall and settle [s] (None = the
                       solver's); the last layer always settles at the solver's dt
+    final_balance:    when set, the whole deposit is settled when the vertical
+                      reactions of the walls and floor, averaged over a check window,
+                      equal its weight within this fraction (and the kinetic energy is
+                      below settle_ke), instead of the one-step ratio below
+                      final_ratio, which the impulse solver's step-to-step jitter
+                      keeps at 0.02-0.04 on a deposit that no longer moves [-];
+                      ``final_windows`` consecutive windows must agree (a released
+                      deposit rocks for a while, and one window can catch it level)
     """
 
     layer_thickness: float = 0.02
@@ -78,6 +86,8 @@ class Pluviation:
     hold_depth: float = 0.0
     hold_margin: float = 2.0
     layer_dt: float | None = None
+    final_balance: float | None = None
+    final_windows: int = 3
 
     def __post_init__(self):
         require_number("layer_thickness", self.layer_thickness, 0.0, None, unit="m")
@@ -94,12 +104,18 @@ class Pluviation:
         require_number("hold_margin", self.hold_margin, 0.0, None, lo_open=False)
         if self.layer_dt is not None:
             require_number("layer_dt", self.layer_dt, 0.0, 0.01, unit="s")
+        if self.final_balance is not None:
+            require_number("final_balance", self.final_balance, 0.0, 1.0)
+        if not (isinstance(self.final_windows, int) and self.final_windows >= 1):
+            raise InvalidParameter("final_windows", self.final_windows, "an integer >= 1")
 
 
 class LayerStatus(NamedTuple):
     """Progress of the pluviation: layer (1-based), of n_layers, grains so far, surface
     height [m], unbalanced-force ratio [-], KE per grain / (m g d50) [-], settled flag,
-    and done: the last status of this layer (settled, or its time limit reached)."""
+    and done: the last status of this layer (settled, or its time limit reached);
+    balance: vertical reactions / weight over the last check window (last layer with
+    ``final_balance`` only, else nan)."""
 
     layer: int
     n_layers: int
@@ -109,6 +125,7 @@ class LayerStatus(NamedTuple):
     ke: float
     settled: bool
     done: bool = False
+    balance: float = float("nan")
 
 
 def cloud(n: int, grading: Grading, rng: np.random.Generator, x0: float, x1: float,
@@ -170,6 +187,18 @@ def surface_height(position: np.ndarray, radius: np.ndarray, settled: np.ndarray
     return float(np.nanmean(tops))
 
 
+def _overburden_factor(sim: Sim, surface: float) -> np.ndarray | None:
+    """Per held contact, (surface now - contact height) / (surface when it was held -
+    contact height): a geostatic estimate of how much its load grew while it was held
+    (>= 1). Used to scale the saved impulses when the deposit is released."""
+    c = sim.held_contacts()
+    if len(c["a"]) == 0:
+        return None
+    y = sim.state().position[:, 1]
+    yc = 0.5 * (y[c["a"]] + y[c["b"]])
+    return np.clip((surface - yc) / np.maximum(c["tag"] - yc, 1e-12), 1.0, None)
+
+
 def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: float,
              floor: float, height: float, settings: Pluviation,
              g: float = 9.81) -> Iterator[LayerStatus]:
@@ -209,13 +238,13 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
             n = max(int(round(area_needed / grading.mean_area())), 0)
             last = layer == n_layers
             if last:
-                sim.release_all()
+                sim.release_all(_overburden_factor(sim, floor + goal))  # the surface it is filled to
                 sim.set_solver(solver)
             elif p.hold_depth > 0 and len(sim.grains):
                 x, y = st.position[:, 0], st.position[:, 1]
                 deep = ((y < surf - p.hold_depth) & (x - x0 > keep_free) & (x1 - x > keep_free)
                         & (y - floor > keep_free))
-                sim.hold(np.flatnonzero(deep))
+                sim.hold(np.flatnonzero(deep), tag=surf)
             first = len(sim.grains)
             if n:
                 centres, radii = cloud(n, grading, sim.rng, x0 + margin, x1 - margin,
@@ -228,20 +257,32 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
             scale = float(np.sum(m_sel)) * g * d50
             t_start = sim.time
             limit = p.final_settle_time if last else p.max_layer_time
+            by_balance = last and p.final_balance is not None
+            level_windows = 0
             while True:
+                if by_balance:
+                    sim.probe.start()
                 sim.run(p.check_every - 1)
                 st_a = sim.state()
                 sim.run(1)
                 st = sim.state()
+                balance = float("nan")
+                if by_balance:
+                    sim.probe.stop()
+                    balance = -float(np.sum(sim.probe.force()[:, 1])) / (float(np.sum(m_sel)) * g)
                 ratio = unbalanced_force_ratio(st_a.velocity[sel], st.velocity[sel], sim.dt, m_sel, g)
                 ke = kinetic_energy(st.velocity[sel], m_sel) / scale
                 elapsed = sim.time - t_start
-                crit = p.final_ratio if last else p.settle_ratio
-                settled = elapsed >= p.min_layer_time and ratio < crit and ke < p.settle_ke
+                if by_balance:
+                    level_windows = level_windows + 1 if abs(balance - 1.0) < p.final_balance else 0
+                    at_rest = level_windows >= p.final_windows
+                else:
+                    at_rest = ratio < (p.final_ratio if last else p.settle_ratio)
+                settled = elapsed >= p.min_layer_time and at_rest and ke < p.settle_ke
                 surf = surface_height(st.position, sim.grains.circle_radius,
                                       np.linalg.norm(st.velocity, axis=1) < 0.05, x0, x1)
                 done = settled or elapsed >= limit
-                yield LayerStatus(layer, n_layers, len(sim.grains), surf, ratio, ke, settled, done)
+                yield LayerStatus(layer, n_layers, len(sim.grains), surf, ratio, ke, settled, done, balance)
                 if done:
                     break
     finally:

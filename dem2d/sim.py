@@ -136,13 +136,14 @@ class Sim:
         """(n,) True for grains held static by ``hold``."""
         return np.array([b.body_type == pymunk.Body.STATIC for b in self.grains.bodies], bool)
 
-    def hold(self, index: np.ndarray) -> int:
+    def hold(self, index: np.ndarray, tag: float = float("nan")) -> int:
         """Hold grains ``index`` (creation indices) static where they are: a static body
         leaves the solver and the per-step rehash of the broad phase, so a settled deposit
         under the layer that is falling costs almost nothing per step. Contacts between
         two held grains, or a held grain and a wall, are dropped by Chipmunk (two bodies
         of infinite mass); their accumulated impulses are kept here so ``release_all``
-        can warm-start them. Returns the number of grains newly held."""
+        can warm-start them; each saved contact keeps ``tag`` (the caller's note of
+        when it was saved, e.g. the surface height). Returns the number newly held."""
         bodies = self._stable_bodies()
         held = self.held()
         new = np.zeros(len(bodies), bool)
@@ -157,9 +158,10 @@ class Sim:
         still |= new
         c = _contact_impulses(self.space, bodies)
         keep = (new[c["a"]] | new[c["b"]]) & still[c["a"]] & still[c["b"]]
+        c["tag"] = np.full(len(c["a"]), float(tag))
         saved = self.meta.setdefault("held_contacts", {"a": np.zeros(0, np.int64), "b": np.zeros(0, np.int64),
-                                                       "impulse": np.zeros((0, 2))})
-        for k in ("a", "b", "impulse"):
+                                                       "impulse": np.zeros((0, 2)), "tag": np.zeros(0)})
+        for k in ("a", "b", "impulse", "tag"):
             saved[k] = np.concatenate([saved[k], c[k][keep]])
         mm = self.meta.setdefault("held_mass", {})
         for i in idx.tolist():
@@ -168,16 +170,27 @@ class Sim:
             b.body_type = pymunk.Body.STATIC
         return len(idx)
 
-    def release_all(self) -> int:
+    def held_contacts(self) -> dict:
+        """The contacts ``hold`` dropped: a, b (m,) grain indices, impulse (m,2) on a
+        [N s/m] when saved, tag (m,)."""
+        return self.meta.get("held_contacts", {"a": np.zeros(0, np.int64), "b": np.zeros(0, np.int64),
+                                               "impulse": np.zeros((0, 2)), "tag": np.zeros(0)})
+
+    def release_all(self, factor: np.ndarray | None = None) -> int:
         """Make every held grain dynamic again (mass and moment as before) and arm the
         next step to give the contacts dropped while they were held their saved
-        impulses (the warm start of ``restore``). Returns the number released."""
+        impulses (the warm start of ``restore``), each times ``factor`` (m,) if given:
+        the load on a held contact grew while more grains were laid above it, and a
+        warm start at the old load lets the deposit sink until the solver, ten contacts
+        per step, has carried the difference down. Returns the number released."""
         mm = self.meta.pop("held_mass", {})
         for i, (m, moment) in mm.items():
             b = self.grains.bodies[i]
             b.body_type = pymunk.Body.DYNAMIC
             b.mass, b.moment = m, moment
         c = self.meta.pop("held_contacts", None)
+        if c is not None and factor is not None:
+            c = {**c, "impulse": c["impulse"] * np.asarray(factor, float)[:, None]}
         if c is not None and len(c["a"]):
             _warm_start(self.space, self._stable_bodies(), c, self.solver.dt)
         return len(mm)

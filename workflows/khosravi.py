@@ -141,6 +141,9 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
         _log(recorder, run, rest, z, 0.0, gH)
         for k, r in enumerate(run.translate()):
             bar.update(task, completed=k + 1, status=f"Dis/H {r.dis / bf.H:.5f}")
+            if "translation_to_active_s" not in timings and r.dis / bf.H >= case.dis_over_H_active:
+                # the paper's movement ends here; a validation run goes on to judge steadiness
+                timings["translation_to_active_s"] = time.perf_counter() - t0
             if recorder is not None and (k + 1) % every == 0:
                 _log(recorder, run, r, z, r.dis / bf.H, gH)
         timings["translation_s"] = time.perf_counter() - t0
