@@ -238,7 +238,8 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
             n = max(int(round(area_needed / grading.mean_area())), 0)
             last = layer == n_layers
             if last:
-                sim.release_all(_overburden_factor(sim, floor + goal))  # the surface it is filled to
+                if sim.held().any():  # the surface it is filled to; a fresh space in creation order
+                    sim.release_all(_overburden_factor(sim, floor + goal), rebuild=True)
                 sim.set_solver(solver)
             elif p.hold_depth > 0 and len(sim.grains):
                 x, y = st.position[:, 0], st.position[:, 1]

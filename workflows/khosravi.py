@@ -8,7 +8,8 @@ fig10_at_rest.png, fig12_pressure_vs_displacement.png, fig13_profiles.png and, w
 --rrd, recording.rrd. The settled specimen is kept in
 ``<root>/khosravi/_specimens/<key>.pkl`` (key = hash of everything that shapes the
 specimen), so a second ``compare`` with the same seed and specimen settings skips the
-pluviation (a branch from the checkpoint, not a bit-for-bit continuation).
+pluviation; a run that fills the box goes on from the same stored bytes, so the two
+continue alike.
 """
 
 from __future__ import annotations
@@ -124,9 +125,13 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
                                   f"unbalanced {s.ratio:.3f}")
                 if specimen_cache and s.done and s.layer < s.n_layers and s.layer % checkpoint_layers == 0:
                     _atomic_write(partial, run.sim.snapshot())  # mid-fill checkpoint, between layers
+            blob = run.sim.snapshot()
             if specimen_cache:
-                _atomic_write(cache, run.sim.snapshot())
+                _atomic_write(cache, blob)
                 partial.unlink(missing_ok=True)
+            # go on from the stored specimen, as a later run reusing it will: both then
+            # continue bit for bit alike, and the space is rebuilt in creation order
+            run = KhosraviRun(case, sim=restore(blob))
         timings["pluviation_s"] = time.perf_counter() - t0
         bf = run.backfill
         t0 = time.perf_counter()

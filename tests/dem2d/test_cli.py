@@ -42,6 +42,9 @@ def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, 
     res2 = json.loads(capsys.readouterr().out)
     assert res2["specimen_reused"] is True
     assert res2["particles"] == res["particles"]
+    # the run that filled the box went on from the bytes it stored: the reuse repeats it
+    for key in ("K_at_rest_upper_half", "active_thrust_over_rankine"):
+        assert res2["dem"][key] == res["dem"][key]
     # no card holds a biaxial test at this grain size: the first run measured phi and
     # saved the test, the second reads it back instead of repeating it
     assert res["phi_biaxial_source"] == "biaxial test run for this comparison"
