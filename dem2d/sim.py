@@ -184,9 +184,9 @@ class Sim:
         warm start at the old load lets the deposit sink until the solver, ten contacts
         per step, has carried the difference down. ``rebuild``: also rebuild the space
         from a snapshot (``restore``): moving bodies between Chipmunk's static and
-        dynamic arrays scrambles their order in memory, and the released 63k-disk
-        deposit then stepped ~3x slower than the same deposit restored in creation
-        order. Returns the number released."""
+        dynamic arrays scrambles their order in memory, and insertion order changes
+        the cost of a step (docs/dem2d.md); the rebuilt space has the grains in
+        creation order. Returns the number released."""
         mm = self.meta.pop("held_mass", {})
         for i, (m, moment) in mm.items():
             b = self.grains.bodies[i]
