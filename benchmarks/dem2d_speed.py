@@ -28,9 +28,9 @@ from dem2d.scenarios import KhosraviCase
 
 
 def pile(n_target: int, seed: int = 1, recipe: str = "layered") -> KhosraviRun:
-    """A settled pile of about ``n_target`` disks. ``layered``: the Khosravi case's own
-    pluviation (20 mm layers, settled layers held static while the next ones fall,
-    everything released for the last); ``pour``: one damped layer (the first version
+    """A settled pile of about ``n_target`` disks. ``layered``: the Khosravi case's 20 mm
+    layers with the opt-in hold (settled layers held static while the next ones fall,
+    everything released for the last; docs/dem2d.md); ``pour``: one damped layer (the first version
     of this benchmark; bodies then sit in memory in random order, which costs more per
     step)."""
     g = Grading(1.16e-3, 1.55)
