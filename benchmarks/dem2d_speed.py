@@ -1,8 +1,9 @@
 """pymunk step speed on settled disk piles of about 10k, 30k and 50k grains.
 
 Each pile is Khosravi et al.'s box (220 mm wide) filled to H = 0.3 m with grains scaled
-so the count is close to the target (``--recipe layered``: the case's own layered
-pluviation; ``pour``: one damped layer, the first version), settled, then timed over ``--steps`` steps with
+so the count is close to the target (``--recipe layered``: 20 mm layers with the
+opt-in hold of docs/dem2d.md; ``pour``: one damped layer, the first version), settled,
+then timed over ``--steps`` steps with
 the settings of the Khosravi run (dt 2e-4 s, spatial hash) at 10 and 20 iterations,
 serial. CPU time of this process is reported as well as wall time, because the
 machine is shared. Writes JSON to stdout (or --out).
