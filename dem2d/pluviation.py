@@ -214,7 +214,9 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
     deposited_area = float(np.sum(np.pi * sim.grains.circle_radius**2))  # > 0 when resumed
     d50 = grading.d50
     sim.space.damping = p.damping
-    solver = sim.solver
+    # the run's own solver; a checkpoint taken mid-fill carries it in meta, since its
+    # sim.solver is then the layer_dt one
+    solver = sim.meta.setdefault("fill_solver", sim.solver)
     if p.layer_dt is not None:
         sim.set_solver(dataclasses.replace(solver, dt=p.layer_dt))
     keep_free = p.hold_margin * grading.d_max
@@ -290,3 +292,4 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
         sim.space.damping = 1.0
         if sim.solver.dt != solver.dt:
             sim.set_solver(solver)
+        sim.meta.pop("fill_solver", None)

@@ -73,3 +73,22 @@ def test_hold_settings_are_checked():
         Pluviation(layer_dt=0.0)
     with pytest.raises(InvalidParameter, match="final_balance"):
         Pluviation(final_balance=1.5)
+
+
+def test_a_fill_resumed_mid_way_ends_at_the_solvers_dt():
+    # a checkpoint taken while the layers run at layer_dt must not carry that dt into
+    # the final settle and the readings after it
+    case = dataclasses.replace(TINY, H=0.09, pluviation=dataclasses.replace(
+        TINY.pluviation, hold_depth=0.015, layer_dt=4e-4))
+    part = KhosraviRun(case)
+    blob = None
+    for s in part.fill():
+        if s.done and s.layer == 2:
+            blob = part.sim.snapshot()
+            break
+    mid = restore(blob)
+    assert mid.dt == 4e-4  # the checkpoint was taken while the layers ran at layer_dt
+    resumed = KhosraviRun(case, sim=mid)
+    for _ in resumed.fill():
+        pass
+    assert resumed.sim.dt == case.solver.dt == 2e-4
