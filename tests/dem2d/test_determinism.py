@@ -11,6 +11,15 @@ TINY = KhosraviCase(H=0.06, particles_scale=4.0, seed=3, solver=Solver(dt=2e-4),
                     pluviation=Pluviation(layer_thickness=0.03, max_layer_time=0.1, final_settle_time=0.1))
 
 
+def checkpoint_after_layer(case, layer: int) -> bytes:
+    """The snapshot a fill of ``case`` takes once ``layer`` is done (then abandoned)."""
+    part = KhosraviRun(case)
+    for s in part.fill():
+        if s.done and s.layer == layer:
+            return part.sim.snapshot()
+    raise AssertionError(f"the fill never finished layer {layer}")
+
+
 def _fill(case):
     run = KhosraviRun(case)
     for _ in run.fill():
@@ -35,14 +44,7 @@ def test_pluviation_resumes_from_a_mid_fill_checkpoint():
     full = KhosraviRun(case)
     for _ in full.fill():
         pass
-    part = KhosraviRun(case)
-    blob = None
-    for s in part.fill():
-        if s.done and s.layer == 2:
-            blob = part.sim.snapshot()
-            break
-    assert blob is not None
-    resumed = KhosraviRun(case, sim=restore(blob))
+    resumed = KhosraviRun(case, sim=restore(checkpoint_after_layer(case, 2)))
     layers = [s.layer for s in resumed.fill() if s.done]
     assert layers == [3]                           # layers 1-2 were skipped, not refilled
     assert abs(resumed.backfill.H - full.backfill.H) < 0.01

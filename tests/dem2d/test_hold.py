@@ -13,7 +13,7 @@ from dem2d.pluviation import Pluviation
 from dem2d.run import KhosraviRun
 from dem2d.sim import restore
 
-from .test_determinism import TINY
+from .test_determinism import TINY, checkpoint_after_layer
 
 
 def _weight_balance(run: KhosraviRun) -> float:
@@ -80,13 +80,7 @@ def test_a_fill_resumed_mid_way_ends_at_the_solvers_dt():
     # the final settle and the readings after it
     case = dataclasses.replace(TINY, H=0.09, pluviation=dataclasses.replace(
         TINY.pluviation, hold_depth=0.015, layer_dt=4e-4))
-    part = KhosraviRun(case)
-    blob = None
-    for s in part.fill():
-        if s.done and s.layer == 2:
-            blob = part.sim.snapshot()
-            break
-    mid = restore(blob)
+    mid = restore(checkpoint_after_layer(case, 2))
     assert mid.dt == 4e-4  # the checkpoint was taken while the layers ran at layer_dt
     resumed = KhosraviRun(case, sim=mid)
     for _ in resumed.fill():
