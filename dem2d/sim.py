@@ -159,8 +159,7 @@ class Sim:
         c = _contact_impulses(self.space, bodies)
         keep = (new[c["a"]] | new[c["b"]]) & still[c["a"]] & still[c["b"]]
         c["tag"] = np.full(len(c["a"]), float(tag))
-        saved = self.meta.setdefault("held_contacts", {"a": np.zeros(0, np.int64), "b": np.zeros(0, np.int64),
-                                                       "impulse": np.zeros((0, 2)), "tag": np.zeros(0)})
+        saved = self.meta.setdefault("held_contacts", _no_contacts())
         for k in ("a", "b", "impulse", "tag"):
             saved[k] = np.concatenate([saved[k], c[k][keep]])
         mm = self.meta.setdefault("held_mass", {})
@@ -173,8 +172,7 @@ class Sim:
     def held_contacts(self) -> dict:
         """The contacts ``hold`` dropped: a, b (m,) grain indices, impulse (m,2) on a
         [N s/m] when saved, tag (m,)."""
-        return self.meta.get("held_contacts", {"a": np.zeros(0, np.int64), "b": np.zeros(0, np.int64),
-                                               "impulse": np.zeros((0, 2)), "tag": np.zeros(0)})
+        return self.meta.get("held_contacts", _no_contacts())
 
     def release_all(self, factor: np.ndarray | None = None, rebuild: bool = False) -> int:
         """Make every held grain dynamic again (mass and moment as before) and arm the
@@ -224,6 +222,12 @@ class Sim:
                    "gravity": tuple(space.gravity), "damping": space.damping,
                    "sleep_time_threshold": space.sleep_time_threshold, "contacts": contacts}
         return pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def _no_contacts() -> dict:
+    """An empty record of saved contacts (the layout ``Sim.hold`` keeps)."""
+    return {"a": np.zeros(0, np.int64), "b": np.zeros(0, np.int64), "impulse": np.zeros((0, 2)),
+            "tag": np.zeros(0)}
 
 
 def _contact_impulses(space: pymunk.Space, bodies: list) -> dict:
