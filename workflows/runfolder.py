@@ -98,13 +98,30 @@ def _numba_threads():
     return int(numba.config.NUMBA_NUM_THREADS)
 
 
+def _new_folder(parent: Path, stem: str) -> Path:
+    """Create and return parent/stem, or parent/stem-2, -3, ... if it exists: two runs
+    started in the same second with the same seed (a parameter sweep launched at once)
+    must not write into one folder. mkdir is atomic, so concurrent runs cannot collide."""
+    parent.mkdir(parents=True, exist_ok=True)
+    for k in range(1, 10_000):
+        path = parent / (stem if k == 1 else f"{stem}-{k}")
+        try:
+            path.mkdir()
+            return path
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free run folder name for {parent / stem}")
+
+
 class RunFolder:
     """A run's output folder. Created on construction; every writer returns the path."""
 
     def __init__(self, case: str, seed: int, root: str | Path = "runs", name: str | None = None):
-        stamp = time.strftime("%Y%m%d-%H%M%S")
-        self.path = Path(root) / case / (name or f"{stamp}-seed{seed}")
-        self.path.mkdir(parents=True, exist_ok=True)
+        if name is not None:
+            self.path = Path(root) / case / name
+            self.path.mkdir(parents=True, exist_ok=True)
+        else:
+            self.path = _new_folder(Path(root) / case, f"{time.strftime('%Y%m%d-%H%M%S')}-seed{seed}")
         self.case = case
         self.seed = seed
         self._t0 = time.perf_counter()

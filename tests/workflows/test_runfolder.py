@@ -22,3 +22,15 @@ def test_manifest_keeps_the_machine_load_at_start_and_end(tmp_path, monkeypatch)
     rf = runfolder.RunFolder("case", 1, root=tmp_path)
     man = json.loads(rf.write_manifest().read_text())
     assert man["load_average_1min"] == {"start": 1.5, "end": 0.25}
+
+
+def test_runs_started_in_the_same_second_get_their_own_folders(tmp_path, monkeypatch):
+    """Two runs of a sweep launched together (same case, seed and second) once wrote into
+    one folder, each overwriting the other's config and results."""
+    monkeypatch.setattr(runfolder.time, "strftime", lambda fmt: "20261123-021751")
+    a = runfolder.RunFolder("case", 1, root=tmp_path)
+    b = runfolder.RunFolder("case", 1, root=tmp_path)
+    assert a.path.name == "20261123-021751-seed1" and b.path.name == "20261123-021751-seed1-2"
+    named = runfolder.RunFolder("case", 1, root=tmp_path, name="mine")
+    again = runfolder.RunFolder("case", 1, root=tmp_path, name="mine")  # an explicit name is reused
+    assert named.path == again.path
