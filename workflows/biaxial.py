@@ -21,13 +21,16 @@ import numpy as np
 
 from analytic.errors import InvalidParameter
 from dem2d.biaxial import BiaxialCase, BiaxialTest
+from dem2d.params import Solver
 from workflows.progress import progress
 from workflows.runfolder import RunFolder, to_plain
 
 #: the card committed with the validation report
 DEFAULT_CARD = Path(__file__).resolve().parents[1] / "docs" / "validation" / "biaxial.json"
 #: the cards a Khosravi run looks in: coarse grains (particles_scale 2) and full size
-DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"))
+# full grain size: 10 sweeps per step (the first calibration) and 40 (the Khosravi run's)
+DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"),
+                 DEFAULT_CARD.with_name("biaxial_full_it40.json"))
 
 
 @dataclass(frozen=True)
@@ -148,19 +151,24 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
 
 
 def phi_for_friction(friction: float, cards: str | Path | Sequence[str | Path] = DEFAULT_CARDS,
-                     confining: float = 4000.0, particles_scale: float = 1.0) -> dict | None:
+                     confining: float = 4000.0, particles_scale: float = 1.0,
+                     solver: Solver | None = None) -> dict | None:
     """The first test at this friction, confining stress and grain scale (each within
-    1e-6) in ``cards`` (one card or several, searched in order; missing files are
-    skipped), with ``"card"`` set to the file it came from; None if no card has one.
+    1e-6), and when ``solver`` is given at its dt and iterations, in ``cards`` (one card
+    or several, searched in order; missing files are skipped), with ``"card"`` set to
+    the file it came from; None if no card has one.
     The grain scale matters: phi of free disks in a 70 mm wide specimen depends on how
-    many grains span it (docs/dem2d.md)."""
+    many grains span it (docs/dem2d.md); so do the solver's sweeps per step (an
+    unconverged impulse solver makes the assembly soft; docs/dem2d.md)."""
     paths = [cards] if isinstance(cards, (str, Path)) else list(cards)
     for p in map(Path, paths):
         if not p.exists():
             continue
         for t in json.loads(p.read_text()).get("tests", []):
             if (abs(t["friction"] - friction) < 1e-6 and abs(t["confining"] - confining) < 1e-6
-                    and abs(t.get("particles_scale", 1.0) - particles_scale) < 1e-6):
+                    and abs(t.get("particles_scale", 1.0) - particles_scale) < 1e-6
+                    and (solver is None or (t.get("iterations") == solver.iterations
+                                            and abs(t.get("dt", 0.0) - solver.dt) < 1e-12))):
                 return {**t, "card": str(p)}
     return None
 

@@ -54,16 +54,16 @@ def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DE
                 root: str | Path | None = None) -> dict:
     """phi of the backfill material measured by the biaxial test: from the committed
     calibration card (or a test an earlier run saved under ``<root>/khosravi/_biaxial``)
-    when one holds a 4 kPa test at this friction and grain size, else by running one
-    (same friction, grading and particles_scale) and saving it there for the next run
-    (a full-size test takes ~15-25 min)."""
+    when one holds a 4 kPa test at this friction, grain size and solver (dt, sweeps),
+    else by running one (same friction, grading, particles_scale and solver) and saving
+    it there for the next run (a full-size test takes ~15-25 min)."""
     bcase = BiaxialCase(d50=case.d50, cu=case.cu, particles_scale=case.particles_scale, gs=case.gs,
-                        friction=case.friction, seed=case.seed)
+                        friction=case.friction, seed=case.seed, solver=case.solver)
     key = hashlib.sha256(json.dumps(to_plain(bcase), sort_keys=True).encode()).hexdigest()[:16]
     saved = Path(root) / "khosravi" / "_biaxial" / f"{key}.json" if root is not None else None
     cards = [card] if isinstance(card, (str, Path)) else list(card)
     t = phi_for_friction(case.friction, cards + ([saved] if saved else []),
-                         particles_scale=case.particles_scale)
+                         particles_scale=case.particles_scale, solver=case.solver)
     if t is not None:
         return {**t, "from": f"calibration card {Path(t.pop('card')).name}"}
     out, _, _ = run_one(bcase, bar, f"mu={case.friction:g}")
