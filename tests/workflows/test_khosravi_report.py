@@ -1,0 +1,29 @@
+"""The Khosravi report's time item: the issue's goal (tests/data/khosravi_reference.json,
+'case_wall_time_min_at_most' = 30 min for pluviation + translation at full size) is
+judged on one run that filled its own box; a run that reused a specimen cannot say."""
+
+import json
+
+from workflows.khosravi import REFERENCE
+from workflows.khosravi_report import _time_check
+
+GOAL = json.loads(REFERENCE.read_text())["targets"]["case_wall_time_min_at_most"]
+
+
+def _result(pluviation_min, rest_min, translation_min, reused=False):
+    return {"specimen_reused": reused,
+            "timings_s": {"pluviation_s": 60 * pluviation_min, "at_rest_s": 60 * rest_min,
+                          "translation_to_active_s": 60 * translation_min,
+                          "translation_s": 60 * 3 * translation_min}}  # a validation run goes on
+
+
+def test_time_item_sums_pluviation_rest_and_translation_to_the_active_reading():
+    assert GOAL == 30
+    ok = _time_check(_result(20.0, 1.0, 8.5), GOAL)
+    assert ok["ok"] is True and ok["measured"].startswith("29.5 min")
+    late = _time_check(_result(20.0, 1.0, 9.5), GOAL)
+    assert late["ok"] is False and late["measured"].startswith("30.5 min")
+
+
+def test_time_item_is_not_judged_on_a_reused_specimen():
+    assert _time_check(_result(0.1, 1.0, 8.0, reused=True), GOAL)["ok"] is None
