@@ -214,7 +214,7 @@ def _print_khosravi(res: dict) -> None:
     t.add_column("quantity")
     t.add_column("DEM", justify="right")
     t.add_column("compared with", justify="left")
-    t.add_row("phi biaxial (critical state) [deg]", f"{d['phi_biaxial']:.2f}", "paper 20.7")
+    t.add_row("phi biaxial (peak) [deg]", f"{d['phi_biaxial']:.2f}", "paper 20.7")
     t.add_row("K at rest, upper half", f"{d['K_at_rest_upper_half']:.3f}",
               f"Jaky 1 - sin(phi_biaxial) = {d['jaky_K0']:.3f} (ratio {d['K_at_rest_upper_half_over_jaky']:.2f})")
     t.add_row("PS0 at rest / (Jaky at its depth)", f"{d['PS0_at_rest_over_jaky']:.2f}", "< 1: corner arching")

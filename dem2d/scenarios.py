@@ -56,9 +56,10 @@ class KhosraviCase:
     d50, cu:          grading of the disks [m, -]
     particles_scale:  multiply every diameter by this (coarser grains, same box)
     gs:               specific gravity of the grains
-    friction:         particle-particle Coulomb coefficient; 0.3 is the biaxial calibration at
-                      full grain size (phi 20.8 deg at critical state against the paper's
-                      20.7; docs/validation/biaxial_full.json). Coarser grains give a lower
+    friction:         particle-particle Coulomb coefficient; 0.43 is the biaxial calibration at
+                      full grain size and 40 sweeps a step (peak phi 20.7 deg, the paper's;
+                      the critical state saturates at 18-18.6 deg for mu 0.3-0.5;
+                      docs/validation/biaxial_full_it40.json). Coarser grains give a lower
                       phi at the same friction: compare reports the phi it measures.
     wall_friction:    particle-wall coefficient; None = friction ("fully rough")
     floor_friction:   particle-floor coefficient; None = friction
@@ -88,7 +89,7 @@ class KhosraviCase:
     cu: float = 1.55
     particles_scale: float = 1.0
     gs: float = 2.65
-    friction: float = 0.3
+    friction: float = 0.43
     wall_friction: float | None = None
     floor_friction: float | None = None
     far_wall_friction: float = 0.0

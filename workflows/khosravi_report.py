@@ -110,8 +110,8 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         f"particle friction mu = {res['friction']:.4f} (wall = {res['wall_friction']:.4f}), pymunk {res['pymunk']}",
         f"* backfill: H = {res['H_m'] * 1e3:.1f} mm, gamma = {res['gamma_N_per_m3'] / 1e3:.2f} kN/m3, "
         f"porosity {res['porosity']:.3f} (interior {res['porosity_interior']:.3f}; paper 0.21)",
-        f"* phi from the biaxial test on the same material: {d['phi_biaxial']:.2f} deg critical state"
-        + (f", {d['phi_biaxial_peak']:.2f} deg peak" if d.get("phi_biaxial_peak") is not None else "")
+        f"* phi from the biaxial test on the same material: {d['phi_biaxial']:.2f} deg, used for Jaky and the "
+        f"active theories" + (f" ({d['phi_biaxial_cs']:.2f} deg at critical state)" if d.get("phi_biaxial_cs") is not None else "")
         + f" ({res.get('phi_biaxial_source')})",
         f"* wall time: pluviation {t.get('pluviation_s', float('nan')) / 60:.1f} min"
         + (" (specimen reused from its checkpoint)" if res.get("specimen_reused") else "")
