@@ -27,8 +27,8 @@ from workflows.runfolder import RunFolder, to_plain
 
 #: the card committed with the validation report
 DEFAULT_CARD = Path(__file__).resolve().parents[1] / "docs" / "validation" / "biaxial.json"
-#: the cards a Khosravi run looks in: coarse grains (particles_scale 2) and full size
-# full grain size: 10 sweeps per step (the first calibration) and 40 (the Khosravi run's)
+#: the cards a Khosravi run looks in: coarse grains (particles_scale 2), and full size at
+#: 10 sweeps a step (the first calibration) and at 40 (the Khosravi run's)
 DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"),
                  DEFAULT_CARD.with_name("biaxial_full_it40.json"))
 
