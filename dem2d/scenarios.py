@@ -78,8 +78,8 @@ class KhosraviCase:
                       impulses make the full-size fill soft and the active thrust at
                       Dis/H 0.003 read 1.11 x Rankine, 20 -> 1.05, 40 -> 1.00 (one
                       specimen), and 0.89 -> 0.82 from 40 to 80 on the validated one, while
-                      the at-rest K moves by 2 %: not converged at 40, which is what the
-                      30-min goal allows (docs/dem2d.md, "Sweeps per step")
+                      the at-rest K moves by 2 %: not converged at 40 (docs/dem2d.md,
+                      "Sweeps per step")
     pluviation:       ``HELD_LAYERS`` (above)
     """
 
