@@ -137,9 +137,11 @@ class KhosraviRun:
                            float(probe.force("far")[:, 1].sum()), probe.contacts_per_step("wall"))
 
     def at_rest(self) -> WallReading:
-        """Settle ``case.rest_time`` more, then read the wall at rest."""
+        """Switch to the readings' solver (``case.reading_solver``), settle
+        ``case.rest_time`` more, then read the wall at rest."""
         if self.backfill is None:
             self.backfill = self._describe([])
+        self.sim.set_solver(self.case.reading_solver)  # the readings' sweeps from here on
         self.sim.run(max(0, int(round(self.case.rest_time / self.sim.dt))))
         self.rest = self.reading()
         return self.rest

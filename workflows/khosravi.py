@@ -54,16 +54,17 @@ def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DE
                 root: str | Path | None = None) -> dict:
     """phi of the backfill material measured by the biaxial test: from the committed
     calibration card (or a test an earlier run saved under ``<root>/khosravi/_biaxial``)
-    when one holds a 4 kPa test at this friction, grain size and solver (dt, sweeps),
-    else by running one (same friction, grading, particles_scale and solver) and saving
+    when one holds a 4 kPa test at this friction, grain size and the readings' solver
+    (dt, sweeps: the strength the moving wall meets), else by running one (same friction,
+    grading, particles_scale and solver) and saving
     it there for the next run (a full-size test takes ~15-25 min)."""
     bcase = BiaxialCase(d50=case.d50, cu=case.cu, particles_scale=case.particles_scale, gs=case.gs,
-                        friction=case.friction, seed=case.seed, solver=case.solver)
+                        friction=case.friction, seed=case.seed, solver=case.reading_solver)
     key = hashlib.sha256(json.dumps(to_plain(bcase), sort_keys=True).encode()).hexdigest()[:16]
     saved = Path(root) / "khosravi" / "_biaxial" / f"{key}.json" if root is not None else None
     cards = [card] if isinstance(card, (str, Path)) else list(card)
     t = phi_for_friction(case.friction, cards + ([saved] if saved else []),
-                         particles_scale=case.particles_scale, solver=case.solver)
+                         particles_scale=case.particles_scale, solver=case.reading_solver)
     if t is not None:
         return {**t, "from": f"calibration card {Path(t.pop('card')).name}"}
     out, _, _ = run_one(bcase, bar, f"mu={case.friction:g}")
@@ -176,6 +177,7 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
                                   title=f"During backfilling, {bf.n_grains} disks (Khosravi Fig. 9)")
     rf.write_json("result.json", result)
     rf.write_manifest(n_grains=bf.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
+                      iterations_readings=case.reading_solver.iterations,
                       friction=case.friction, wall_friction=case.material.wall_friction,
                       specimen=str(cache), specimen_reused=reused, **result["timings_s"])
     return result, rf
@@ -248,7 +250,8 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
         "particles": bf.n_grains,
         "seed": c.seed,
         "dt_s": c.solver.dt,
-        "iterations": c.solver.iterations,
+        "iterations": c.solver.iterations,              # sweeps a step during the fill
+        "iterations_readings": c.reading_solver.iterations,  # at rest and translation
         "friction": c.friction,
         "wall_friction": c.material.wall_friction,
         "pymunk": package_versions().get("pymunk"),

@@ -12,7 +12,8 @@ TINY = ["compare", "khosravi", "--H", "0.1", "--particles-scale", "5", "--set", 
 
 
 def test_bad_overrides_exit_2_with_one_line(capsys, tmp_path):
-    for extra in (["--set", "friction=-1"], ["--set", "no_such_key=1"], ["--H", "0.5"]):
+    for extra in (["--set", "friction=-1"], ["--set", "no_such_key=1"], ["--H", "0.5"],
+                  ["--set", "reading_iterations=0"]):
         with pytest.raises(SystemExit) as e:
             rc = cli.main(TINY + ["--out", str(tmp_path)] + extra)
             raise SystemExit(rc)

@@ -96,6 +96,16 @@ def test_active_thrust_does_not_depend_on_iterations_and_dt(translated):
     assert abs(f1 - f0) / f0 < TARGETS["solver_sensitivity_rel_tol"]
 
 
+def test_readings_run_at_their_own_sweeps_after_the_fill(settled_box):
+    # reference: the case definition (KhosraviCase.reading_iterations). The fill's
+    # solver until at_rest(), the readings' sweeps from there on; the time step kept
+    run = _run_from(settled_box, reading_iterations=2 * settled_box.case.solver.iterations)
+    assert run.sim.space.iterations == settled_box.case.solver.iterations
+    run.at_rest()
+    assert run.sim.space.iterations == 2 * settled_box.case.solver.iterations
+    assert run.sim.dt == settled_box.case.solver.dt
+
+
 def _rest_readings(settled, solver):
     run = _run_from(settled, solver=solver, window=0.04)
     run.sim.run(int(round(0.02 / solver.dt)))
