@@ -283,6 +283,9 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
             "PS0_at_rest_over_jaky": ps0_rest / (K0_jaky * g * z_ps0),
             "PS0_active_over_gammaH": ps0_act / (g * H),
             "lowest_reading_at_rest_over_gammaH": float(m_rest[0] / (g * H)) if len(m_rest) else None,
+            # a milder measure of the corner: PS0 against the straight line through the
+            # readings (the paper: "nearly linear ... except for the lower corner")
+            "PS0_at_rest_over_linear_trend": _over_linear_trend(ps0_rest, d, m_rest, z_ps0),
             "weight_balance": -(rest.floor_fy + rest.wall_fy + rest.far_fy) / bf.weight,
             "wall_friction_share_of_weight": -rest.wall_fy / bf.weight,
         },
@@ -294,6 +297,13 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
         "theory_thrust_over_dem_active": {k: p.normal_force() / F_act for k, p in th.items() if k != "jaky"},
     }
     return res
+
+
+def _over_linear_trend(value: float, depth: np.ndarray, readings: np.ndarray, z: float) -> float | None:
+    """value / the least-squares straight line through (depth, readings) at depth z."""
+    if len(readings) < 2:
+        return None
+    return float(value / np.polyval(np.polyfit(depth, readings, 1), z))
 
 
 def _write_outputs(rf, run, rest, result, th, fig10, fig12, fig13) -> None:
@@ -338,7 +348,7 @@ def _write_outputs(rf, run, rest, result, th, fig10, fig12, fig13) -> None:
     inside = z > 0
     fig10(d / H, m_rest / gH, rf.file("fig10_at_rest.png"), jaky_K=dem["jaky_K0"],
           ps0=((H - 0.5 * c.panel_height) / H, ps0 / gH), panels=(z[inside] / H, rest.sigma[inside] / gH),
-          title=f"At rest, H = {H * 1e3:.0f} mm, {bf.n_grains} disks; K upper half {dem['K_at_rest_upper_half']:.3f}")
+          title=f"At rest, H = {H * 1e3:.0f} mm, {bf.n_grains} disks\nK upper half {dem['K_at_rest_upper_half']:.3f}")
     fig12(dis, {k: np.array(v) for k, v in series.items()}, rf.file("fig12_pressure_vs_displacement.png"),
           steady=dem["dis_over_H_steady"], title=f"H = {H * 1e3:.0f} mm, {bf.n_grains} disks, "
                                                   f"wall speed {c.wall_speed * 1e3:g} mm/s")

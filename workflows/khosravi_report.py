@@ -11,6 +11,12 @@ from pathlib import Path
 from workflows.runfolder import to_plain
 
 
+def _trend(d: dict) -> str:
+    """PS0 against the straight line through the readings (absent from older results)."""
+    t = d.get("PS0_at_rest_over_linear_trend")
+    return "" if t is None else f"; PS0 / straight line through the readings at its depth = {t:.2f}"
+
+
 def _sweeps(res: dict) -> str:
     """'40' or '40 (fill), 80 (readings)' -- older results have no readings' sweeps."""
     fill, reading = res["iterations"], res.get("iterations_readings", res["iterations"])
@@ -43,7 +49,7 @@ def assess(result: dict, ref: dict) -> list[dict]:
         {"item": "at-rest reduction at the bottom corner visible in PS0",
          "measured": f"PS0 = {d['PS0_at_rest_over_gammaH']:.3f} gamma H; lowest 4-panel reading "
                      f"{d['lowest_reading_at_rest_over_gammaH']:.3f} gamma H; PS0 / Jaky at its depth = "
-                     f"{d['PS0_at_rest_over_jaky']:.2f}",
+                     f"{d['PS0_at_rest_over_jaky']:.2f}" + _trend(d),
          "ok": d["PS0_at_rest_over_gammaH"] < d["lowest_reading_at_rest_over_gammaH"]},
         {"item": "active profile below at-rest everywhere",
          "measured": "all reading points" if d["active_below_at_rest_everywhere"] else "not at every reading point",

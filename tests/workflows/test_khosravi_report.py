@@ -4,6 +4,9 @@ judged on one run that filled its own box; a run that reused a specimen cannot s
 
 import json
 
+import numpy as np
+import pytest
+
 from workflows.khosravi import REFERENCE
 from workflows.khosravi_report import _time_check
 
@@ -27,3 +30,12 @@ def test_time_item_sums_pluviation_rest_and_translation_to_the_active_reading():
 
 def test_time_item_is_not_judged_on_a_reused_specimen():
     assert _time_check(_result(0.1, 1.0, 8.0, reused=True), GOAL)["ok"] is None
+
+
+def test_ps0_against_the_straight_line_through_the_readings():
+    # reference: arithmetic. On a Jaky-like line sigma = 0.65 z the trend at z = 0.98 is
+    # 0.637; a PS0 of half that reads 0.5, and one reading alone gives no line
+    from workflows.khosravi import _over_linear_trend
+    z = np.array([0.93, 0.8, 0.67, 0.53, 0.4, 0.27, 0.13])
+    assert _over_linear_trend(0.5 * 0.65 * 0.98, z, 0.65 * z, 0.98) == pytest.approx(0.5)
+    assert _over_linear_trend(0.3, z[:1], z[:1], 0.98) is None
