@@ -28,9 +28,9 @@ from workflows.runfolder import RunFolder, to_plain
 #: the card committed with the validation report
 DEFAULT_CARD = Path(__file__).resolve().parents[1] / "docs" / "validation" / "biaxial.json"
 #: the cards a Khosravi run looks in: coarse grains (particles_scale 2), and full size at
-#: 10 sweeps a step (the first calibration) and at 40 (the Khosravi run's)
+#: 10 sweeps a step (the first calibration), at 40, and at 80 (the Khosravi readings')
 DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"),
-                 DEFAULT_CARD.with_name("biaxial_full_it40.json"))
+                 DEFAULT_CARD.with_name("biaxial_full_it40.json"), DEFAULT_CARD.with_name("biaxial_full_it80.json"))
 
 
 @dataclass(frozen=True)
