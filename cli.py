@@ -281,7 +281,7 @@ def _cmd_calibrate_biaxial(args) -> int:
 def _add_validate_khosravi(sub):
     cases = _case_group(sub, "validate", "full-size validation runs and their reports")
     k = cases.add_parser("khosravi", help="full-size Khosravi case -> docs/validation/khosravi.{json,md} + figures",
-                         description="H = 0.3 m, D50 = 1.16 mm (~62k disks); the wall moves to Dis/H 0.01 and the active state is read at 0.003; about 45 min on a 2-core machine (pluviation ~13 min, translation to 0.01 ~27 min, a biaxial test for phi ~4 min when no card has one; docs/validation/khosravi.md).")
+                         description="H = 0.3 m, D50 = 1.16 mm (~62k disks); the wall moves to Dis/H 0.01 and the active state is read at 0.003; about 55 min on a 2-core machine (pluviation at 40 sweeps ~13-17 min, at rest and translation to 0.01 at 80 sweeps ~38 min, a biaxial test for phi ~10 min when no card has one; docs/validation/khosravi.md).")
     k.add_argument("--out-dir", default="docs/validation", help="where the report goes (docs/validation)")
     k.add_argument("--rrd", action="store_true", help="also keep recording.rrd in the run folder")
     _add_run_options(k)
