@@ -19,6 +19,10 @@ EXIT_BAD_INPUT = 2
 class _Parser(argparse.ArgumentParser):
     """argparse that reports a usage error in one line (no usage dump)."""
 
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)     # --particles must not pass for --particles-scale
+        super().__init__(*args, **kwargs)
+
     def error(self, message: str):  # noqa: D401 - argparse API
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         sys.exit(EXIT_BAD_INPUT)
@@ -26,15 +30,8 @@ class _Parser(argparse.ArgumentParser):
 
 def _number(name: str, lo=None, hi=None, *, lo_open=True, hi_open=True, unit=""):
     """argparse type: a finite float in a range, with a one-line message naming both."""
-    from analytic.inputs import require_number
-
-    def parse(text: str) -> float:
-        try:
-            return require_number(name, text, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
-        except InvalidParameter as err:
-            raise argparse.ArgumentTypeError(str(err)) from None
-    parse.__name__ = name
-    return parse
+    from studies.options import number
+    return _argparse_type(number(name, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit), name)
 
 
 def _add_theory(sub):
@@ -68,7 +65,7 @@ def _add_theory(sub):
 def _cmd_theory(args) -> int:
     from analytic import Soil, Wall
     from analytic.summary import theory_table
-    from workflows.report import theory_json, theory_text
+    from studies.report import theory_json, theory_text
 
     soil = Soil(args.phi, args.gamma * 1e3)
     wall = Wall(args.H, args.delta, args.omega, args.beta, args.q * 1e3)
@@ -107,7 +104,7 @@ def _add_dsm(sub):
 
 def _cmd_dsm(args) -> int:
     from analytic.slices import MODES, mode_case, solve
-    from workflows.report import dsm_json, dsm_text
+    from studies.report import dsm_json, dsm_text
 
     from analytic.inputs import require_number
 
@@ -144,325 +141,101 @@ def _is_float(text: str) -> bool:
         return False
 
 
-def _case_group(sub, name: str, help: str, description: str = ""):
-    """The sub-subparsers of ``wallsim <name>`` (compare / calibrate / validate), created on
-    first use and shared by every case that registers under it (other engines add theirs)."""
-    parser = sub.choices.get(name)
+VERBS = {"compare": "run a DEM case and set it beside the theories",
+         "calibrate": "calibrate DEM micro-parameters with virtual tests",
+         "validate": "paper-scale validation runs written up in docs/validation/"}
+
+
+def _verb_group(sub, verb: str):
+    """The sub-subparsers of ``wallsim <verb>``, created on first use and shared by every
+    study that has that command."""
+    parser = sub.choices.get(verb)
     if parser is None:
-        parser = sub.add_parser(name, help=help, description=description or help)
-        parser.add_subparsers(dest="case", required=True, parser_class=_Parser)
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            return action
-    raise RuntimeError(f"wallsim {name} has no sub-commands")
+        parser = sub.add_parser(verb, help=VERBS[verb], description=VERBS[verb])
+        parser.add_subparsers(dest="study", required=True, parser_class=_Parser)
+    return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
 
 
-def _add_run_options(p, *, seed_default: int = 1):
-    """Options every DEM command shares: seed, overrides, output, recording, progress."""
-    p.add_argument("--seed", type=_count("seed"), default=seed_default, help=f"random seed ({seed_default})")
+def _argparse_type(parse, name: str):
+    """A study option's parser as an argparse type (its one-line error kept)."""
+    def wrapped(text: str):
+        try:
+            return parse(text)
+        except InvalidParameter as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
+    wrapped.__name__ = name
+    return wrapped
+
+
+def _add_option(p, opt) -> None:
+    """A study option; a case key's flag defaults to "not given" so that only what the
+    user typed overrides the config file (studies/study.py, precedence)."""
+    kw = {"help": opt.help, "dest": opt.dest}
+    if opt.switch:
+        kw["action"] = "store_true"
+    else:
+        if opt.parse is not None:
+            kw["type"] = _argparse_type(opt.parse, opt.dest)
+        if opt.choices:
+            kw["choices"] = list(opt.choices)
+        if opt.metavar:
+            kw["metavar"] = opt.metavar
+    kw["default"] = argparse.SUPPRESS if opt.key is not None else opt.default
+    p.add_argument(opt.flag, **kw)
+
+
+def _add_study_command(sub, study, cmd) -> None:
+    """``wallsim <verb> <study>`` with the command's options and the ones every run shares."""
+    p = _verb_group(sub, cmd.verb).add_parser(study.name, help=cmd.help, description=cmd.description)
+    for opt in cmd.options:
+        _add_option(p, opt)
+    p.add_argument("--seed", type=_argparse_type(_count_value("seed"), "seed"), default=argparse.SUPPRESS,
+                   help=f"random seed ({cmd.seed_default})")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
-                   help="override any case field, e.g. --set clump_fraction=0 --set particle_friction=0.5")
-    p.add_argument("--config", metavar="FILE.toml", help="case overrides from a TOML file (applied before --set)")
+                   help="override any case field (after --config and the flags), e.g. --set seed=2")
+    p.add_argument("--config", metavar="FILE.toml", help="case settings from a TOML file (before the flags)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--out", default="runs", metavar="DIR", help="root of the run folders (runs)")
+    p.set_defaults(func=lambda args: _cmd_study(cmd, args))
 
 
-def _add_compare_khosravi(sub):
-    cases = _case_group(sub, "compare", "run a DEM case and set it beside the theories")
-    k = cases.add_parser("khosravi", help="Khosravi et al.'s box: pluviation, at rest, translation to Dis/H = 0.003",
-                         description="2D disks (pymunk) in a 220 x 400 mm box, rough wall of 40 pressure cells. "
-                                     "Example: wallsim compare khosravi --H 0.3 --particles-scale 2 --rrd")
-    k.add_argument("--H", type=_number("H", 0, 0.4, hi_open=False, unit="m"), default=0.3,
-                   help="backfill height [m] (0.3; paper: 0.2, 0.25, 0.3)")
-    k.add_argument("--particles-scale", type=_number("particles-scale", 0, None), default=1.0,
-                   help="multiply every grain diameter (1 = D50 1.16 mm, ~62k disks at H 0.3; 2 = ~15k)")
-    k.add_argument("--rrd", action="store_true", help="write recording.rrd (disks, walls, force chains)")
-    k.add_argument("--no-cache", action="store_true", help="do not reuse or keep the settled specimen")
-    _add_run_options(k)
-    k.set_defaults(func=_cmd_compare_khosravi)
-
-
-def _cmd_compare_khosravi(args) -> int:
-    import dataclasses
-
-    from dem2d.scenarios import KhosraviCase
-    from workflows.config import apply_sets, apply_toml
-    from workflows.khosravi import compare_khosravi
-
-    case = KhosraviCase(H=args.H, particles_scale=args.particles_scale, seed=args.seed)
-    if args.config:
-        case = apply_toml(case, args.config)
-    case = apply_sets(case, args.set)
-    case = dataclasses.replace(case)  # re-validate after overrides
-    result, rf = compare_khosravi(case, root=args.out, rrd=args.rrd, quiet=args.quiet,
-                                  specimen_cache=not args.no_cache)
+def _cmd_study(cmd, args) -> int:
+    flags = {o.key: (o.to_case(getattr(args, o.dest)) if o.to_case else getattr(args, o.dest))
+             for o in cmd.options if o.key is not None and hasattr(args, o.dest)}
+    if hasattr(args, "seed"):
+        flags[cmd.seed_key] = args.seed
+    case = cmd.resolve(config=args.config, flags=flags, sets=args.set, resume=getattr(args, "resume", None))
+    if cmd.busy_note:
+        _note_if_busy()
+    opts = cmd.run_options(**{o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None},
+                           out=args.out, quiet=args.quiet)
+    result, where = cmd.run(case, opts)
     if args.json:
-        print(json.dumps(result, indent=2))
+        print(json.dumps(result, indent=2, default=str))
     else:
-        _print_khosravi(result)
-    print(f"run folder: {rf.path}", file=sys.stderr)
+        shown = cmd.text(result)
+        if shown is not None:
+            _console().print(shown)
+    if where:
+        print(where, file=sys.stderr)
     return 0
-
-
-def _print_khosravi(res: dict) -> None:
-    from rich.table import Table
-
-    d = res["dem"]
-    t = Table(title=f"Khosravi translation case: H = {res['H_m'] * 1e3:.0f} mm, {res['particles']} disks, "
-                    f"seed {res['seed']}", title_justify="left")
-    t.add_column("quantity")
-    t.add_column("DEM", justify="right")
-    t.add_column("compared with", justify="left")
-    t.add_row("phi biaxial (peak) [deg]", f"{d['phi_biaxial']:.2f}", "paper 20.7")
-    t.add_row("K at rest, upper half", f"{d['K_at_rest_upper_half']:.3f}",
-              f"Jaky 1 - sin(phi_biaxial) = {d['jaky_K0']:.3f} (ratio {d['K_at_rest_upper_half_over_jaky']:.2f})")
-    t.add_row("PS0 at rest / (Jaky at its depth)", f"{d['PS0_at_rest_over_jaky']:.2f}", "< 1: corner arching")
-    t.add_row("active thrust / Rankine", f"{d['active_thrust_over_rankine']:.3f}", "paper: below 1")
-    t.add_row("active below at rest everywhere", str(d["active_below_at_rest_everywhere"]), "")
-    t.add_row("Dis/H steady (90 % of the drop)", f"{d['dis_over_H_steady']:.5f}", "paper 0.0002-0.0005; <= 0.003")
-    t.add_row("floor + walls vertical / weight", f"{d['weight_balance']:.4f}", "1")
-    _console().print(t)
-
-
-def _add_calibrate(sub):
-    tests = _case_group(sub, "calibrate", "calibrate DEM micro-parameters with virtual tests")
-    b = tests.add_parser("biaxial", help="biaxial tests over frictions; the friction giving a target phi",
-                         description="Khosravi et al. section 2: 70 x 200 mm specimen, servo lateral stress, "
-                                     "axial compression. Example: wallsim calibrate biaxial --friction 0.3,0.5,0.7 "
-                                     "--pressures 2,3,5 --particles-scale 2")
-    b.add_argument("--friction", default="0.3,0.5,0.7", help="particle friction coefficients to test (0.3,0.5,0.7)")
-    b.add_argument("--confining", type=_number("confining", 0, None, unit="kPa"), default=4.0,
-                   help="confining stress for the friction sweep [kPa] (4)")
-    b.add_argument("--pressures", default="", help="extra confining stresses [kPa] at the calibrated friction, e.g. 2,3,5")
-    b.add_argument("--target-phi", type=_number("target-phi", 0, 90, unit="deg"), default=20.7,
-                   help="friction angle to calibrate for [deg] (20.7)")
-    b.add_argument("--particles-scale", type=_number("particles-scale", 0, None), default=1.0,
-                   help="multiply every grain diameter (1 = D50 1.16 mm, ~12.7k disks)")
-    b.add_argument("--card", metavar="FILE.json", help="also write the calibration card here")
-    _add_run_options(b)
-    b.set_defaults(func=_cmd_calibrate_biaxial)
-
-
-def _cmd_calibrate_biaxial(args) -> int:
-    import dataclasses
-
-    from dem2d.biaxial import BiaxialCase
-    from workflows.biaxial import CalibrationPlan, calibrate, parse_list
-    from workflows.config import apply_sets, apply_toml
-
-    base = BiaxialCase(particles_scale=args.particles_scale, seed=args.seed, confining=args.confining * 1e3)
-    plan = CalibrationPlan(frictions=parse_list("friction", args.friction),
-                           pressures=parse_list("pressures", args.pressures, 1e3) if args.pressures else (),
-                           target_phi=args.target_phi, case=base)
-    if args.config:
-        plan = apply_toml(plan, args.config)
-    plan = apply_sets(plan, args.set)
-    plan = dataclasses.replace(plan, case=dataclasses.replace(plan.case))
-    result, rf = calibrate(plan, root=args.out, quiet=args.quiet, card=args.card)
-    if args.json:
-        print(json.dumps(result, indent=2))
-    else:
-        from rich.table import Table
-        t = Table(title=f"Biaxial calibration (target phi {plan.target_phi:g} deg)", title_justify="left")
-        for col in ("friction", "sigma_3 kPa", "phi peak", "eps peak", "phi cs", "eps to cs", "band deg",
-                    "n", "grains"):
-            t.add_column(col, justify="right")
-        for r in result["tests"]:
-            t.add_row(f"{r['friction']:.3f}", f"{r['confining'] / 1e3:g}", f"{r['phi_peak_deg']:.2f}",
-                      f"{r['eps_peak']:.4f}", f"{r['phi_cs_deg']:.2f}", f"{r['eps_cs']:.4f}",
-                      f"{r['band_angle_deg']:.0f}", f"{1 - r['solid_fraction_0']:.3f}", str(r["n_grains"]))
-        _console().print(t)
-        _console().print(f"calibrated friction for phi = {plan.target_phi:g} deg: {result['calibrated_friction']:.4f}")
-    print(f"run folder: {rf.path}", file=sys.stderr)
-    return 0
-
-
-def _add_validate_khosravi(sub):
-    cases = _case_group(sub, "validate", "full-size validation runs and their reports")
-    k = cases.add_parser("khosravi", help="full-size Khosravi case -> docs/validation/khosravi.{json,md} + figures",
-                         description="H = 0.3 m, D50 = 1.16 mm (~62k disks); the wall moves to Dis/H 0.01 and the active state is read at 0.003; about 55 min on a 2-core machine (pluviation at 40 sweeps ~13-17 min, at rest and translation to 0.01 at 80 sweeps ~38 min, a biaxial test for phi ~10 min when no card has one; docs/validation/khosravi.md).")
-    k.add_argument("--out-dir", default="docs/validation", help="where the report goes (docs/validation)")
-    k.add_argument("--rrd", action="store_true", help="also keep recording.rrd in the run folder")
-    _add_run_options(k)
-    k.set_defaults(func=_cmd_validate_khosravi)
-
-
-def _cmd_validate_khosravi(args) -> int:
-    import dataclasses
-
-    from dem2d.scenarios import KhosraviCase
-    from workflows.config import apply_sets, apply_toml
-    from workflows.khosravi import VALIDATION_DIS_OVER_H, validate_khosravi
-
-    case = KhosraviCase(seed=args.seed, dis_over_H_max=VALIDATION_DIS_OVER_H)
-    if args.config:
-        case = apply_toml(case, args.config)
-    case = dataclasses.replace(apply_sets(case, args.set))
-    report = validate_khosravi(out_dir=args.out_dir, root=args.out, quiet=args.quiet, case=case, rrd=args.rrd)
-    if args.json:
-        print(json.dumps(report, indent=2))
-    else:
-        _console().print(f"wrote {report['paths']['json']} and {report['paths']['md']}")
-    return 0
-
-
-def _add_recording_options(p):
-    p.add_argument("--rrd", metavar="FILE", help="recording path (default: recording.rrd in the run folder)")
-    p.add_argument("--no-rrd", action="store_true", help="write no recording")
-    p.add_argument("--spawn", action="store_true", help="also open the Rerun viewer")
-    p.add_argument("--every", type=_count("every"), default=5,
-                   help="log the scene (particles, chains) every N x 500 steps (5)")
-
-
-def _add_compare_nadukuru(sub):
-    cases = _case_group(sub, "compare", "run a DEM case and set it beside the theories")
-    p = cases.add_parser("nadukuru", help="Nadukuru & Michalowski's 3.1 m wall: four modes of movement (3D)",
-                         description="Spheres and two-sphere clumps rained behind a 3.1 m wall of 6 segments; "
-                                     "the wall translates or rotates to Delta/H = 0.008. DEM K and resultant "
-                                     "height beside the paper, Fang & Ishibashi, Coulomb, Rankine and the DSM. "
-                                     "Example: wallsim compare nadukuru --mode RT --wall rough --particles 6000")
-    p.add_argument("--mode", choices=["T", "RB", "RT", "mixed"], default="T",
-                   help="T translation, RB rotation about the base, RT about the top, "
-                        "mixed about a point H/2 above the top (T)")
-    p.add_argument("--wall", choices=["rough", "smooth"], default="rough",
-                   help="wall friction 0.35 (rough) or 0 (smooth) (rough)")
-    p.add_argument("--particles", type=_count("particles"), default=30_000,
-                   help="spheres incl. clump members (30000 = paper scale; fewer scale the grains up)")
-    p.add_argument("--resume", metavar="RUN_DIR",
-                   help="continue an interrupted run from its folder (uses that folder's config.toml)")
-    _add_recording_options(p)
-    _add_run_options(p)
-    p.set_defaults(func=_cmd_compare_nadukuru)
-
-
-def _nadukuru_case(args):
-    import dataclasses
-
-    from workflows.config import apply_sets, apply_toml
-    from workflows.nadukuru import Movement, NadukuruCase, SpecimenRecipe, WallSetup, rough_or_smooth
-
-    case = NadukuruCase(specimen=SpecimenRecipe(particles=args.particles),
-                        wall=WallSetup(friction=rough_or_smooth(args.wall)),
-                        movement=Movement(mode=getattr(args, "mode", "T")), seed=args.seed)
-    if args.config:
-        case = apply_toml(case, args.config)
-    return dataclasses.replace(apply_sets(case, args.set))
 
 
 def _note_if_busy() -> None:
-    from workflows.progress import busy_machine_note
+    from studies.progress import busy_machine_note
 
     note = busy_machine_note()
     if note:
         sys.stderr.write(note + "\n")
 
 
-def _cmd_compare_nadukuru(args) -> int:
-    from pathlib import Path
+def _add_studies(sub) -> None:
+    from studies import all_studies
 
-    from workflows.nadukuru_run import compare_nadukuru
-    from workflows.progress import progress
-    from workflows.report import nadukuru_text
-
-    _note_if_busy()
-
-    if args.resume:
-        args.config = str(Path(args.resume) / "config.toml")
-        if not Path(args.config).exists():
-            raise InvalidParameter("--resume", args.resume, "a run folder with a config.toml")
-    case = _nadukuru_case(args)
-    wall_kind = "smooth" if case.wall.friction == 0 else "rough"     # what the run really has
-    with progress(args.quiet) as bar:
-        result, folder = compare_nadukuru(case, wall_kind, root=Path(args.out), rrd=args.rrd,
-                                          spawn=args.spawn, every=args.every, record=not args.no_rrd,
-                                          progress=bar, resume=Path(args.resume) if args.resume else None)
-    if args.json:
-        print(json.dumps(result, indent=2))
-    else:
-        _console().print(nadukuru_text(result))
-    print(f"run folder: {folder}", file=sys.stderr)
-    return 0
-
-
-def _add_calibrate_triaxial(sub):
-    tests = _case_group(sub, "calibrate", "calibrate DEM micro-parameters with virtual tests")
-    p = tests.add_parser("triaxial", help="numerical triaxial test on the Nadukuru backfill mixture (3D)",
-                         description="Cubical triaxial test (six servo platens, sigma_2 = sigma_3) on the "
-                                     "sphere/clump mixture; peak and critical-state phi, written to a "
-                                     "calibration card that `compare nadukuru` uses for its theories.")
-    p.add_argument("--particles", type=_count("particles"), default=8200, help="spheres (8200, the paper's)")
-    p.add_argument("--confining", type=_number("confining", 0, None, unit="kPa"), default=200.0,
-                   help="confining stress [kPa] (200)")
-    _add_run_options(p)
-    p.set_defaults(func=_cmd_calibrate_triaxial, mode="T", wall="rough")
-
-
-def _cmd_calibrate_triaxial(args) -> int:
-    from pathlib import Path
-
-    from workflows.progress import progress
-    from workflows.triaxial import TriaxialSetup, calibrate_triaxial
-
-    _note_if_busy()
-
-    case = _nadukuru_case(args)
-    with progress(args.quiet) as bar:
-        card, path = calibrate_triaxial(case, TriaxialSetup(confining=args.confining * 1e3),
-                                        particles=args.particles, root=Path(args.out), progress=bar)
-    if args.json:
-        print(json.dumps(card, indent=2))
-    else:
-        print(f"triaxial: peak phi {card['phi_peak_deg']:.1f} deg at axial strain {card['strain_at_peak']:.3f}, "
-              f"end (critical-state estimate) {card['phi_end_deg']:.1f} deg; porosity {card['porosity']:.3f}; "
-              f"{card['particles']} spheres, seed {card['seed']}, {card['wall_time_s']:.0f} s "
-              f"(paper: 39 deg)")
-    print(f"calibration card: {path}", file=sys.stderr)
-    return 0
-
-
-def _add_validate_nadukuru(sub):
-    cases = _case_group(sub, "validate", "paper-scale validation runs written up in docs/validation/")
-    p = cases.add_parser("nadukuru", help="all four modes, rough and smooth walls, at paper scale (hours)",
-                         description="Triaxial calibration, one settled specimen per wall, the four modes and a "
-                                     "half-speed translation; writes docs/validation/nadukuru.{md,json} and figures.")
-    p.add_argument("--particles", type=_count("particles"), default=30_000, help="spheres (30000)")
-    p.add_argument("--walls", default="rough,smooth", help="comma list of rough, smooth (rough,smooth)")
-    p.add_argument("--modes", default="T,RB,RT,mixed", help="comma list of T, RB, RT, mixed (all)")
-    p.add_argument("--no-triaxial", action="store_true",
-                   help="skip the triaxial calibration (an existing card for the recipe is used)")
-    p.add_argument("--no-rate-check", action="store_true", help="skip the half-speed repeat of translation")
-    p.add_argument("--docs", default="docs/validation", metavar="DIR", help="where the report goes")
-    _add_run_options(p)
-    p.set_defaults(func=_cmd_validate_nadukuru, mode="T", wall="rough")
-
-
-def _cmd_validate_nadukuru(args) -> int:
-    from pathlib import Path
-
-    from workflows.nadukuru import MODES
-    from workflows.nadukuru_validate import validate_nadukuru
-    from workflows.progress import progress
-
-    _note_if_busy()
-
-    walls = [w.strip() for w in args.walls.split(",") if w.strip()]
-    modes = [m.strip() for m in args.modes.split(",") if m.strip()]
-    for w in walls:
-        if w not in ("rough", "smooth"):
-            raise InvalidParameter("walls", w, "rough | smooth")
-    for m in modes:
-        if m not in MODES:
-            raise InvalidParameter("modes", m, " | ".join(MODES))
-    case = _nadukuru_case(args)
-    with progress(args.quiet) as bar:
-        rep = validate_nadukuru(case, out_dir=Path(args.docs), root=Path(args.out), walls=walls, modes=modes,
-                                triaxial=not args.no_triaxial, rate_check=not args.no_rate_check, progress=bar,
-                                log=lambda msg: print(msg, file=sys.stderr, flush=True))
-    if args.json:
-        print(json.dumps(rep, indent=2, default=str))
-    print(f"report: {Path(args.docs) / 'nadukuru.md'}", file=sys.stderr)
-    return 0
+    for study in all_studies():
+        for cmd in study.commands:
+            _add_study_command(sub, study, cmd)
 
 
 def _console():
@@ -486,21 +259,17 @@ def _add_bench(sub):
     d.set_defaults(func=_cmd_bench_dem3d)
 
 
+def _count_value(name: str):
+    from studies.options import count
+    return count(name)
+
+
 def _count(name: str):
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = 0
-        if value < 1:
-            raise argparse.ArgumentTypeError(str(InvalidParameter(name, text, ">= 1")))
-        return value
-    parse.__name__ = name
-    return parse
+    return _argparse_type(_count_value(name), name)
 
 
 def _cmd_bench_dem3d(args) -> int:
-    from workflows.bench import bench_dem3d, scaling
+    from studies.bench import bench_dem3d, scaling
 
     result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts)
     rows = scaling(max(1, args.steps // 10), args.threads) if args.scaling else None
@@ -531,12 +300,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_theory(sub)
     _add_dsm(sub)
-    _add_compare_nadukuru(sub)
-    _add_compare_khosravi(sub)
-    _add_calibrate_triaxial(sub)
-    _add_calibrate(sub)
-    _add_validate_nadukuru(sub)
-    _add_validate_khosravi(sub)
+    _add_studies(sub)
     _add_bench(sub)
     return parser
 

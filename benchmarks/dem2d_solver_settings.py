@@ -29,8 +29,8 @@ import numpy as np
 from dem2d.measure import readings
 from dem2d.params import Solver
 from dem2d.pluviation import Pluviation
-from dem2d.run import KhosraviRun, k_upper_half
-from dem2d.scenarios import KhosraviCase
+from studies.khosravi.run import KhosraviRun, k_upper_half
+from studies.khosravi.case import KhosraviCase
 from dem2d.sim import restore
 
 REDUCED = KhosraviCase(particles_scale=4.0, friction=0.5, seed=7, solver=Solver(dt=2e-4, iterations=10),

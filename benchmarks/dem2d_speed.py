@@ -24,13 +24,13 @@ from dataclasses import replace
 from dem2d.grading import Grading
 from dem2d.params import Solver
 from dem2d.pluviation import Pluviation
-from dem2d.run import KhosraviRun
-from dem2d.scenarios import KhosraviCase
+from studies.khosravi.run import KhosraviRun
+from studies.khosravi.case import KhosraviCase
 
 
 def pile(n_target: int, seed: int = 1, recipe: str = "layered") -> KhosraviRun:
     """A settled pile of about ``n_target`` disks. ``layered``: the Khosravi case's own
-    fill (``dem2d.scenarios.HELD_LAYERS`` and its solver); ``pour``: one damped layer (the
+    fill (``studies.khosravi.case.HELD_LAYERS`` and its solver); ``pour``: one damped layer (the
     first version of this benchmark; bodies then sit in memory in random order, which
     costs more per step)."""
     g = Grading(1.16e-3, 1.55)

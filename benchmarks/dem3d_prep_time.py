@@ -1,7 +1,7 @@
 """Wall and CPU time of the Nadukuru & Michalowski specimen preparation, stage by stage
 (issue 5: "specimen preparation <= 15 min" on this 2-core machine).
 
-Runs ``workflows.nadukuru.prepare_specimen`` on the default recipe (rough wall, the
+Runs ``studies.nadukuru.model.prepare_specimen`` on the default recipe (rough wall, the
 particle count and seed given) and writes, per stage, the steps, wall time, CPU time
 (all threads: cpu / wall is the number of cores the stage kept busy) and the settle
 trace (steps, unbalanced-force ratio, kinetic energy [J]), with the numba thread count
@@ -23,7 +23,7 @@ import time
 
 import numba
 
-from workflows import nadukuru as nk
+from studies.nadukuru import model as nk
 
 
 def main() -> dict:

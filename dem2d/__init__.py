@@ -16,8 +16,6 @@ Layout (docs/dem2d.md has the why):
 * ``sim``         Sim (space + grains + walls + clock), snapshot / restore
 * ``pluviation``  layered pluviation
 * ``biaxial``     biaxial test with a stress-controlled piston; band angle
-* ``scenarios``   KhosraviCase, build_box
-* ``run``         KhosraviRun: fill, at rest, translate; k_upper_half
 """
 
 from .biaxial import BiaxialCase, BiaxialResult, BiaxialTest
@@ -27,14 +25,11 @@ from .grading import Grading
 from .params import Material, Solver
 from .pluviation import Pluviation, pluviate
 from .probes import PanelProbe
-from .run import KhosraviRun, WallReading, k_upper_half, normal_thrust
-from .scenarios import KhosraviCase, build_box
 from .sim import Sim, restore
 from .walls import Fixed, PanelWall, RotateAbout, Schedule, Translate, panel_wall
 
 __all__ = ["BiaxialCase", "BiaxialResult", "BiaxialTest", "Grains", "add_clumps", "add_disks",
            "add_polygons", "friction_split", "new_space", "Frame", "body_state", "grain_contacts",
            "make_frame", "Grading", "Material", "Solver", "Pluviation", "pluviate", "PanelProbe",
-           "KhosraviRun", "WallReading", "k_upper_half", "normal_thrust",
-           "KhosraviCase", "build_box", "Sim", "restore", "Fixed", "PanelWall", "RotateAbout",
+           "Sim", "restore", "Fixed", "PanelWall", "RotateAbout",
            "Schedule", "Translate", "panel_wall"]

@@ -1,6 +1,6 @@
 """dem3d: a numba soft-sphere / clump DEM engine with moving segmented walls.
 
-Pure computation: nothing in this package writes files, prints or logs (workflows/ and
+Pure computation: nothing in this package writes files, prints or logs (studies/ and
 cli.py do). Typical use (a 0.5 m periodic slab, a 6-panel wall at x = 0 that turns about
 its base, the backfill on +x)::
 

@@ -5,7 +5,7 @@ import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ["analytic", "dem2d", "dem3d", "viz", "workflows"]
+PACKAGES = ["analytic", "dem2d", "dem3d", "viz", "studies"]
 
 
 def _imports(path: Path) -> set[str]:
@@ -46,4 +46,4 @@ def test_engines_and_theories_are_pure():
 
 def test_analytic_depends_on_no_engine():
     for p in _sources("analytic"):
-        assert not (_imports(p) & {"dem2d", "dem3d", "viz", "workflows", "pymunk", "numba"}), p
+        assert not (_imports(p) & {"dem2d", "dem3d", "viz", "studies", "pymunk", "numba"}), p

@@ -14,8 +14,8 @@ import pytest
 
 from dem2d.params import Solver
 from dem2d.pluviation import Pluviation
-from dem2d.run import KhosraviRun
-from dem2d.scenarios import KhosraviCase
+from studies.khosravi.run import KhosraviRun
+from studies.khosravi.case import KhosraviCase
 
 # reading_iterations=None: the readings run at ``solver``, so a test that changes the
 # solver (the sensitivity checks) changes what the wall is read with

@@ -3,8 +3,8 @@ when the wall moves on further (so that the steadiness after it can be judged)."
 
 from types import SimpleNamespace
 
-from dem2d.scenarios import KhosraviCase
-from workflows.khosravi import active_record
+from studies.khosravi.case import KhosraviCase
+from studies.khosravi.compare import active_record
 
 
 def _run(dis_over_H_max: float, H: float = 0.3):

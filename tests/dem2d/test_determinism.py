@@ -4,8 +4,8 @@ import numpy as np
 
 from dem2d.params import Solver
 from dem2d.pluviation import Pluviation
-from dem2d.run import KhosraviRun
-from dem2d.scenarios import KhosraviCase
+from studies.khosravi.run import KhosraviRun
+from studies.khosravi.case import KhosraviCase
 
 TINY = KhosraviCase(H=0.06, particles_scale=4.0, seed=3, solver=Solver(dt=2e-4),
                     pluviation=Pluviation(layer_thickness=0.03, max_layer_time=0.1, final_settle_time=0.1))

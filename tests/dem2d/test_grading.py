@@ -1,6 +1,7 @@
 """Grading: the linear-by-mass curve reproduces Khosravi et al.'s Table 1 (D50 = 1.16 mm,
 Cu = 1.55), in closed form and in a sample."""
 
+import importlib.util
 import json
 import math
 from pathlib import Path
@@ -11,11 +12,11 @@ import pytest
 from analytic.errors import InvalidParameter
 from dem2d.grading import Grading, mass_percentile, measured_d50_cu
 
-REF = json.loads((Path(__file__).parents[1] / "data" / "khosravi_reference.json").read_text())
+REF = json.loads(Path(importlib.util.find_spec("studies.khosravi").submodule_search_locations[0], "reference.json").read_text())
 
 
 def test_curve_passes_through_the_papers_d50_and_cu():
-    # reference: Table 1 of Khosravi et al. (tests/data/khosravi_reference.json)
+    # reference: Table 1 of Khosravi et al. (studies/khosravi/reference.json)
     d50, cu = REF["material"]["d50_m"], REF["material"]["cu"]
     g = Grading(d50, cu)
     w = g.d_max - g.d_min

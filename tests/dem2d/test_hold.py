@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 
 from dem2d.pluviation import Pluviation
-from dem2d.run import KhosraviRun
+from studies.khosravi.run import KhosraviRun
 from dem2d.sim import restore
 
 from .test_determinism import TINY, checkpoint_after_layer

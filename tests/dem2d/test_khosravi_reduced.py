@@ -2,11 +2,12 @@
 the wall test, solver sensitivity, checkpoints and determinism.
 
 References: statics (reactions = weight), the paper (pressure falls as the wall moves
-away; tests/data/khosravi_reference.json), the issue's 5 % solver-sensitivity target.
+away; studies/khosravi/reference.json), the issue's 5 % solver-sensitivity target.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import json
 from dataclasses import replace
 from pathlib import Path
@@ -15,10 +16,10 @@ import numpy as np
 import pytest
 
 from dem2d.measure import readings
-from dem2d.run import KhosraviRun, k_upper_half, normal_thrust
+from studies.khosravi.run import KhosraviRun, k_upper_half, normal_thrust
 from dem2d.sim import restore
 
-REF = json.loads((Path(__file__).parents[1] / "data" / "khosravi_reference.json").read_text())
+REF = json.loads(Path(importlib.util.find_spec("studies.khosravi").submodule_search_locations[0], "reference.json").read_text())
 TARGETS = REF["targets"]
 
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from dem2d.measure import panel_stresses, readings, stress_in_bands, unbalanced_force_ratio
-from dem2d.run import k_upper_half, normal_thrust
-from workflows.measures import steady_displacement
+from studies.khosravi.run import k_upper_half, normal_thrust
+from studies.measures import steady_displacement
 
 
 def test_k_upper_half_of_a_linear_profile_is_its_K():

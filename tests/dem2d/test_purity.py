@@ -1,4 +1,4 @@
-"""dem2d stays a pure engine (STYLE.md Part B): no rerun, no plotting, no workflows,
+"""dem2d stays a pure engine (STYLE.md Part B): no rerun, no plotting, no studies,
 no printing, no file I/O."""
 
 import ast
@@ -7,7 +7,7 @@ from pathlib import Path
 import dem2d
 
 SRC = Path(dem2d.__file__).parent
-FORBIDDEN_MODULES = ("rerun", "matplotlib", "viz", "workflows", "cli", "rich")
+FORBIDDEN_MODULES = ("rerun", "matplotlib", "viz", "studies", "cli", "rich")
 FORBIDDEN_CALLS = ("print", "open")
 
 

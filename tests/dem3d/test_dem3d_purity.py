@@ -1,4 +1,4 @@
-"""dem3d stays pure: no file I/O, printing, rerun, viz or workflows imports (STYLE.md Part B)."""
+"""dem3d stays pure: no file I/O, printing, rerun, viz or studies imports (STYLE.md Part B)."""
 
 import ast
 from pathlib import Path

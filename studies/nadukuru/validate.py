@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .nadukuru import G, MODES, Movement, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
+from .model import G, MODES, Movement, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
     rough_or_smooth, theory_rows
-from .runfolder import package_versions, git_revision, to_plain
+from ..runfolder import package_versions, git_revision, to_plain
 
 TOL_K, TOL_H = 0.03, 0.04
 
@@ -34,7 +34,7 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
     report = {"case": "nadukuru", "versions": package_versions(), "git": git_revision(),
               "recipe": to_plain(base.specimen), "seed": base.seed, "walls": {}}
     if triaxial:
-        from .triaxial import TriaxialSetup, calibrate_triaxial
+        from ..triaxial.lab import TriaxialSetup, calibrate_triaxial
         tt = time.perf_counter()
         card, _ = calibrate_triaxial(base, TriaxialSetup(), particles=8200, root=root, progress=progress)
         report["triaxial"] = {k: card[k] for k in ("phi_peak_deg", "strain_at_peak", "phi_end_deg", "porosity",
@@ -42,8 +42,8 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
         log(f"triaxial: phi peak {card['phi_peak_deg']:.1f} deg")
         phi, phi_src = report["triaxial"]["phi_peak_deg"], "triaxial"
     else:                       # a card from an earlier `wallsim calibrate triaxial`, else the paper's
-        from .nadukuru_run import phi_card
-        from .triaxial import card_path
+        from .compare import phi_card
+        from ..triaxial.lab import card_path
         phi, phi_src = phi_card(root, base)
         card = card_path(root, base.specimen, base.seed)
         if card.exists():

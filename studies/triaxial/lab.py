@@ -25,7 +25,7 @@ import numpy as np
 import dem3d
 from analytic.inputs import require_number
 
-from .nadukuru import SpecimenRecipe, _CLUMP_VOLUME_FACTOR, _contact
+from ..nadukuru.model import SpecimenRecipe, _CLUMP_VOLUME_FACTOR, _contact
 
 
 @dataclass
@@ -59,6 +59,17 @@ class TriaxialSetup:
         require_number("confining", self.confining, 0, None, unit="Pa")
         require_number("strain_rate", self.strain_rate, 0, 1.0, unit="1/s")
         require_number("max_strain", self.max_strain, 0, 0.5)
+
+
+@dataclass(frozen=True)
+class TriaxialCase:
+    """``calibrate triaxial``: the backfill recipe (Nadukuru's, its card keyed by the
+    grain and contact fields; ``specimen.particles`` is the test's sphere count, the
+    paper's 8,200), the test set-up and the seed."""
+
+    specimen: SpecimenRecipe = field(default_factory=lambda: SpecimenRecipe(particles=8200))
+    setup: TriaxialSetup = field(default_factory=TriaxialSetup)
+    seed: int = 1
 
 
 @dataclass
@@ -222,7 +233,7 @@ def calibrate_triaxial(case, setup: TriaxialSetup, *, particles: int, root, prog
     import json
     import time
 
-    from .runfolder import package_versions
+    from ..runfolder import package_versions
 
     t0 = time.perf_counter()
     res = run_triaxial(case.specimen, setup, seed=case.seed, particles=particles, progress=progress)

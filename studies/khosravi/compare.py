@@ -2,7 +2,7 @@
 PFC2D translation case run on dem2d and set beside Jaky, Rankine and the arching
 theories.
 
-Run folder (workflows/runfolder.py): config.toml, manifest.json, result.json,
+Run folder (studies/runfolder.py): config.toml, manifest.json, result.json,
 at_rest_panels.csv, readings_vs_displacement.csv, active_panels.csv, backfilling.csv,
 fig10_at_rest.png, fig12_pressure_vs_displacement.png, fig13_profiles.png and, with
 --rrd, recording.rrd. The settled specimen is kept in
@@ -27,16 +27,16 @@ from analytic import Soil, Wall, jaky, rankine
 from analytic.arching import handy, khosravi, paik_salgado
 from analytic.classical import jaky_coefficient, rankine_coefficient
 from dem2d.biaxial import BiaxialCase
-from dem2d.run import KhosraviRun, k_upper_half, normal_thrust
-from workflows.measures import steady_displacement
-from dem2d.scenarios import KhosraviCase
+from studies.khosravi.run import KhosraviRun, k_upper_half, normal_thrust
+from studies.measures import steady_displacement
+from studies.khosravi.case import KhosraviCase
 from dem2d.sim import restore
-from workflows.biaxial import DEFAULT_CARDS, phi_for_friction, run_one
-from workflows.progress import progress
-from workflows.runfolder import RunFolder, package_versions, to_plain
+from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
+from studies.progress import progress
+from studies.runfolder import RunFolder, package_versions, to_plain
 
-#: Khosravi et al.'s published values the report compares with (tests/data/khosravi_reference.json)
-REFERENCE = Path(__file__).resolve().parents[1] / "tests" / "data" / "khosravi_reference.json"
+#: Khosravi et al.'s published values the report compares with (shipped with the package)
+REFERENCE = Path(__file__).resolve().parent / "reference.json"
 
 _SPECIMEN_FIELDS = ("H", "box_width", "box_height", "n_panels", "d50", "cu", "particles_scale", "gs",
                     "friction", "wall_friction", "floor_friction", "far_wall_friction", "seed",
@@ -367,7 +367,7 @@ def validate_khosravi(*, out_dir: str | Path, root: str | Path = "runs", quiet: 
                       case: KhosraviCase | None = None, rrd: bool = False) -> dict:
     """Full-size run (H = 0.3 m, D50 = 1.16 mm) and its report: ``khosravi.json`` and
     ``khosravi.md`` with the figures in ``out_dir`` (docs/validation by default)."""
-    from workflows.khosravi_report import write_report
+    from studies.khosravi.report import write_report
 
     case = case or KhosraviCase(dis_over_H_max=VALIDATION_DIS_OVER_H)
     result, rf = compare_khosravi(case, root=root, quiet=quiet, rrd=rrd)

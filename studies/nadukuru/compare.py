@@ -15,15 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .nadukuru import (G, MODE_TITLES, NadukuruCase, load_or_prepare, paper_values, run_modes, theory_rows,
+from .model import (G, MODE_TITLES, NadukuruCase, load_or_prepare, paper_values, run_modes, theory_rows,
                        wall_load)
-from .runfolder import RunFolder
+from ..runfolder import RunFolder
 
 
 def phi_card(root: Path, case: NadukuruCase) -> tuple[float, str]:
     """phi for the theories: the triaxial calibration card of this recipe if one exists
     (``wallsim calibrate triaxial``), else the paper's 39 deg."""
-    from .triaxial import card_path
+    from ..triaxial.lab import card_path
     p = card_path(root, case.specimen, case.seed)
     if p.exists():
         card = json.loads(p.read_text())

@@ -35,7 +35,7 @@ from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 from dem3d import measure
 
-from .measures import steady_displacement
+from ..measures import steady_displacement
 
 G = 9.81
 MODES = ("T", "RB", "RT", "mixed")
@@ -565,8 +565,8 @@ def _shifted(motion: dem3d.Motion, t0: float) -> dem3d.Motion:
 
 
 # ----------------------------------------------------------------------------- reference
-#: Tables 1-3 and the specimen description, with their source (workflows/data/)
-REFERENCE = json.loads((Path(__file__).parent / "data" / "nadukuru_2012.json").read_text())
+#: Tables 1-3 and the specimen description, with their source (shipped with the package)
+REFERENCE = json.loads((Path(__file__).parent / "reference.json").read_text())
 
 
 def paper_values(mode: str, wall: str) -> dict:
@@ -609,7 +609,7 @@ def theory_rows(mode: str, phi_deg: float, wall_friction: float, gamma: float, H
 def steady_disp_over_H(disp: np.ndarray, K: np.ndarray, window: float = 0.05) -> float:
     """Delta/H at which K has first completed 90 % of its drop from at rest to its final
     value (running mean over ``window`` of the record); the definition of the Khosravi
-    case (``workflows.measures.steady_displacement``). An earlier band of +-max(0.01,
+    case (``studies.measures.steady_displacement``). An earlier band of +-max(0.01,
     5 %) about the final K was set by noise at reduced size (K fluctuates by +-0.015
     there after the drop)."""
     return steady_displacement(disp, K, 0.9, smooth=max(3, int(window * len(K))))

@@ -3,7 +3,7 @@ revision when the run started, not whatever HEAD is when a long run ends."""
 
 import json
 
-import workflows.runfolder as runfolder
+import studies.runfolder as runfolder
 
 
 def test_manifest_git_is_taken_at_start(tmp_path, monkeypatch):

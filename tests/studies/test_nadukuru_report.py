@@ -3,7 +3,7 @@ invocation, each an hour at paper scale) without losing what it does not redo.""
 
 import json
 
-from workflows.nadukuru_validate import _keep_other_walls, markdown
+from studies.nadukuru.validate import _keep_other_walls, markdown
 
 
 def _row(K, h):

@@ -29,12 +29,12 @@ import numpy as np
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
-from .build import Grains, friction_split, new_space
-from .grading import Grading
-from .params import Material, Solver
-from .pluviation import Pluviation
-from .sim import Sim
-from .walls import PANEL_TYPE_BASE, panel_wall
+from dem2d.build import Grains, friction_split, new_space
+from dem2d.grading import Grading
+from dem2d.params import Material, Solver
+from dem2d.pluviation import Pluviation
+from dem2d.sim import Sim
+from dem2d.walls import PANEL_TYPE_BASE, panel_wall
 
 RHO_WATER = 1000.0  # kg/m^3
 
@@ -60,7 +60,7 @@ class KhosraviCase:
                       full grain size and 80 sweeps a step, the readings' solver (peak phi
                       20.49 deg, the paper's 20.7 by interpolation at 0.555; the critical
                       state saturates at 18-19.7 deg for mu 0.43-0.8;
-                      docs/validation/biaxial_full_it80.json). Coarser grains give a lower
+                      studies/biaxial/cards/biaxial_full_it80.json). Coarser grains give a lower
                       phi at the same friction: compare reports the phi it measures.
     wall_friction:    particle-wall coefficient; None = friction ("fully rough")
     floor_friction:   particle-floor coefficient; None = friction

@@ -4,8 +4,8 @@ two records share must be given with its record, and the error says which."""
 import pytest
 
 from analytic.errors import InvalidParameter
-from workflows.config import apply_sets
-from workflows.nadukuru import NadukuruCase
+from studies.config import apply_sets
+from studies.nadukuru.model import NadukuruCase
 
 
 def test_bare_and_dotted_keys():

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from analytic.errors import InvalidParameter
-from workflows.nadukuru import (Movement, NadukuruCase, SpecimenRecipe, WallSetup, grain_scale, load_or_prepare,
+from studies.nadukuru.model import (Movement, NadukuruCase, SpecimenRecipe, WallSetup, grain_scale, load_or_prepare,
                                 move_wall, run_modes, wall_load)
 
 SMALL = NadukuruCase(specimen=SpecimenRecipe(particles=2400), seed=7)

@@ -151,3 +151,23 @@ def apply_toml(case, path: str | Path):
     for key, value in walk(data):
         case = set_value(case, key, value)
     return case
+
+
+def revalidated(case):
+    """The case rebuilt from the innermost record out, so every record's checks run on
+    the values it ends up with (``--set`` of one field checks that record only)."""
+    changes = {f.name: revalidated(getattr(case, f.name)) for f in dataclasses.fields(case)
+               if dataclasses.is_dataclass(getattr(case, f.name))}
+    return dataclasses.replace(case, **changes)
+
+
+def resolve_case(case, *, config: str | Path | None = None, flags: dict | None = None,
+                 sets: list[str] | None = None):
+    """The case a command runs, one precedence for every study (lowest first): the
+    defaults in ``case`` < the ``config`` TOML file < ``flags`` (dotted key -> value, only
+    the flags the user typed) < ``sets`` (``--set key=value``)."""
+    if config:
+        case = apply_toml(case, config)
+    for key, value in (flags or {}).items():
+        case = set_value(case, key, value)
+    return revalidated(apply_sets(case, sets))

@@ -1,4 +1,4 @@
-"""The Khosravi report's time item: the issue's goal (tests/data/khosravi_reference.json,
+"""The Khosravi report's time item: the issue's goal (studies/khosravi/reference.json,
 'case_wall_time_min_at_most' = 30 min for pluviation + translation at full size) is
 judged on one run that filled its own box; a run that reused a specimen cannot say."""
 
@@ -7,8 +7,8 @@ import json
 import numpy as np
 import pytest
 
-from workflows.khosravi import REFERENCE
-from workflows.khosravi_report import _time_check
+from studies.khosravi.compare import REFERENCE
+from studies.khosravi.report import _time_check
 
 GOAL = json.loads(REFERENCE.read_text())["targets"]["case_wall_time_min_at_most"]
 
@@ -35,7 +35,7 @@ def test_time_item_is_not_judged_on_a_reused_specimen():
 def test_ps0_against_the_straight_line_through_the_readings():
     # reference: arithmetic. On a Jaky-like line sigma = 0.65 z the trend at z = 0.98 is
     # 0.637; a PS0 of half that reads 0.5, and one reading alone gives no line
-    from workflows.khosravi import _over_linear_trend
+    from studies.khosravi.compare import _over_linear_trend
     z = np.array([0.93, 0.8, 0.67, 0.53, 0.4, 0.27, 0.13])
     assert _over_linear_trend(0.5 * 0.65 * 0.98, z, 0.65 * z, 0.98) == pytest.approx(0.5)
     assert _over_linear_trend(0.3, z[:1], z[:1], 0.98) is None

@@ -22,11 +22,11 @@ import numpy as np
 from analytic.errors import InvalidParameter
 from dem2d.biaxial import BiaxialCase, BiaxialTest
 from dem2d.params import Solver
-from workflows.progress import progress
-from workflows.runfolder import RunFolder, to_plain
+from studies.progress import progress
+from studies.runfolder import RunFolder, to_plain
 
 #: the card committed with the validation report
-DEFAULT_CARD = Path(__file__).resolve().parents[1] / "docs" / "validation" / "biaxial.json"
+DEFAULT_CARD = Path(__file__).resolve().parent / "cards" / "biaxial.json"
 #: the cards a Khosravi run looks in: coarse grains (particles_scale 2), and full size at
 #: 10 sweeps a step (the first calibration), at 40, and at 80 (the Khosravi readings')
 DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"),

@@ -1,7 +1,7 @@
 """The Khosravi run: pluviation, at-rest reading, translation of the wall.
 
 ``KhosraviRun`` owns a ``Sim`` and exposes the three stages as generators, so a caller
-(workflows/khosravi.py, tests) decides what to draw, log or stop. Nothing here writes
+(studies/khosravi.py, tests) decides what to draw, log or stop. Nothing here writes
 files. Every pressure reading is a time average over ``case.window`` seconds of the
 contact impulses on each 10 mm panel (``probes.py``).
 
@@ -18,12 +18,12 @@ from typing import Iterator, NamedTuple
 
 import numpy as np
 
-from .frames import Frame
-from .measure import panel_stresses, readings, solid_fraction
-from .pluviation import LayerStatus, pluviate, surface_height
-from .scenarios import KhosraviCase, build_box
-from .sim import Sim
-from .walls import Translate
+from dem2d.frames import Frame
+from dem2d.measure import panel_stresses, readings, solid_fraction
+from dem2d.pluviation import LayerStatus, pluviate, surface_height
+from .case import KhosraviCase, build_box
+from dem2d.sim import Sim
+from dem2d.walls import Translate
 
 G = 9.81
 

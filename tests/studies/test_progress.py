@@ -6,7 +6,7 @@ import time
 
 import pytest
 
-from workflows.progress import _Lines
+from studies.progress import _Lines
 
 
 def test_log_file_progress_prints_per_interval_and_once_at_the_end():
@@ -27,7 +27,7 @@ def test_busy_machine_note_only_when_threads_exceed_the_idle_cores(monkeypatch):
     preparation beside one job ran 3.5x slower than 1 thread)."""
     import numba
 
-    from workflows import progress
+    from studies import progress
 
     monkeypatch.setattr(progress.os, "cpu_count", lambda: 2)
     monkeypatch.setattr(numba.config, "NUMBA_NUM_THREADS", 2)
@@ -48,7 +48,7 @@ def test_busy_cores_sees_a_spinning_process():
     test process may hold numba threads."""
     import subprocess
 
-    from workflows import progress
+    from studies import progress
 
     idle = progress.busy_cores(0.3)
     spinner = subprocess.Popen([sys.executable, "-c", "while True: pass"])

@@ -1,0 +1,116 @@
+"""Nadukuru & Michalowski (2012): a 3.1 m wall, rained spheres and clumps, four modes
+of wall movement (3D DEM on dem3d).
+
+Modules: ``model`` (case, specimen preparation, wall movement, wall load, theories),
+``compare`` (one mode: run folder, figures, recording), ``validate`` (every mode and
+wall at paper scale -> docs/validation/nadukuru.md). The study record is ``STUDY``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+from analytic.errors import InvalidParameter
+
+from ..options import RECORDING, count
+from ..study import Command, Option, Study
+
+MODES = ("T", "RB", "RT", "mixed")
+
+
+def _default_case():
+    from .model import NadukuruCase
+    return NadukuruCase()
+
+
+def _wall_friction(word: str) -> float:
+    from .model import rough_or_smooth
+    return rough_or_smooth(word)
+
+
+def wall_kind(case) -> str:
+    """'smooth' for a frictionless wall, else 'rough': what the run really has."""
+    return "smooth" if case.wall.friction == 0 else "rough"
+
+
+def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    from ..progress import progress
+    from .compare import compare_nadukuru
+
+    with progress(opts.quiet) as bar:
+        result, folder = compare_nadukuru(case, wall_kind(case), root=Path(opts.out), rrd=opts.rrd,
+                                          spawn=opts.spawn, every=opts.every, record=not opts.no_rrd,
+                                          progress=bar, resume=Path(opts.resume) if opts.resume else None)
+    return result, f"run folder: {folder}"
+
+
+def _compare_text(result: dict):
+    from ..report import nadukuru_text
+    return nadukuru_text(result)
+
+
+def _word_list(name: str, allowed: tuple[str, ...]):
+    def parse(text: str) -> list[str]:
+        words = [w.strip() for w in text.split(",") if w.strip()]
+        for w in words:
+            if w not in allowed:
+                raise InvalidParameter(name, w, " | ".join(allowed))
+        return words
+    parse.__name__ = name
+    return parse
+
+
+def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    import sys
+
+    from ..progress import progress
+    from .validate import validate_nadukuru
+
+    with progress(opts.quiet) as bar:
+        rep = validate_nadukuru(case, out_dir=Path(opts.docs), root=Path(opts.out), walls=opts.walls,
+                                modes=opts.modes, triaxial=not opts.no_triaxial,
+                                rate_check=not opts.no_rate_check, progress=bar,
+                                log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    return rep, f"report: {Path(opts.docs) / 'nadukuru.md'}"
+
+
+_PARTICLES_HELP = "spheres incl. clump members (30000 = paper scale; fewer scale the grains up)"
+
+COMPARE = Command(
+    verb="compare", help="Nadukuru & Michalowski's 3.1 m wall: four modes of movement (3D)",
+    description="Spheres and two-sphere clumps rained behind a 3.1 m wall of 6 segments; the wall translates "
+                "or rotates to Delta/H = 0.008. DEM K and resultant height beside the paper, Fang & Ishibashi, "
+                "Coulomb, Rankine and the DSM. Example: wallsim compare nadukuru --mode RT --wall rough "
+                "--particles 6000",
+    default_case=_default_case, run=_compare, text=_compare_text, busy_note=True,
+    options=(
+        Option("--mode", "T translation, RB rotation about the base, RT about the top, mixed about a point H/2 "
+                         "above the top (T)", key="movement.mode", choices=MODES),
+        Option("--wall", "wall friction 0.35 (rough) or 0 (smooth) (rough)", key="wall.friction",
+               choices=("rough", "smooth"), to_case=_wall_friction),
+        Option("--particles", _PARTICLES_HELP + " (30000)", key="specimen.particles", parse=count("particles")),
+        Option("--resume", "continue an interrupted run from its folder (uses that folder's config.toml)",
+               metavar="RUN_DIR"),
+        *RECORDING,
+    ))
+
+VALIDATE = Command(
+    verb="validate", help="all four modes, rough and smooth walls, at paper scale (hours)",
+    description="Triaxial calibration, one settled specimen per wall, the four modes and a half-speed "
+                "translation; writes docs/validation/nadukuru.{md,json} and figures.",
+    default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True,
+    options=(
+        Option("--particles", "spheres (30000)", key="specimen.particles", parse=count("particles")),
+        Option("--walls", "comma list of rough, smooth (rough,smooth)", parse=_word_list("walls", ("rough", "smooth")),
+               default=["rough", "smooth"]),
+        Option("--modes", "comma list of T, RB, RT, mixed (all)", parse=_word_list("modes", MODES),
+               default=list(MODES)),
+        Option("--no-triaxial", "skip the triaxial calibration (an existing card for the recipe is used)",
+               switch=True),
+        Option("--no-rate-check", "skip the half-speed repeat of translation", switch=True),
+        Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR"),
+    ))
+
+STUDY = Study(name="nadukuru", title="Nadukuru & Michalowski (2012), 3D DEM, four modes of wall movement",
+              commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -1,0 +1,46 @@
+"""The numerical triaxial test of Nadukuru & Michalowski's backfill mixture (3D, dem3d):
+peak and critical-state phi, written to a calibration card that ``compare nadukuru``
+uses for its theories. The test itself is in ``lab``; the study record is ``STUDY``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+from ..options import count, kpa_to_pa, number
+from ..study import Command, Option, Study
+
+
+def _default_case():
+    from .lab import TriaxialCase
+    return TriaxialCase()
+
+
+def _calibrate(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    from ..progress import progress
+    from .lab import calibrate_triaxial
+
+    with progress(opts.quiet) as bar:
+        card, path = calibrate_triaxial(case, case.setup, particles=case.specimen.particles, root=Path(opts.out),
+                                        progress=bar)
+    return card, f"calibration card: {path}"
+
+
+def _text(card: dict) -> str:
+    return (f"triaxial: peak phi {card['phi_peak_deg']:.1f} deg at axial strain {card['strain_at_peak']:.3f}, "
+            f"end (critical-state estimate) {card['phi_end_deg']:.1f} deg; porosity {card['porosity']:.3f}; "
+            f"{card['particles']} spheres, seed {card['seed']}, {card['wall_time_s']:.0f} s (paper: 39 deg)")
+
+
+CALIBRATE = Command(
+    verb="calibrate", help="numerical triaxial test on the Nadukuru backfill mixture (3D)",
+    description="Cubical triaxial test (six servo platens, sigma_2 = sigma_3) on the sphere/clump mixture; "
+                "peak and critical-state phi, written to a calibration card that `compare nadukuru` uses for "
+                "its theories.",
+    default_case=_default_case, run=_calibrate, text=_text, busy_note=True,
+    options=(Option("--particles", "spheres (8200, the paper's)", key="specimen.particles", parse=count("particles")),
+             Option("--confining", "confining stress [kPa] (200)", key="setup.confining",
+                    parse=number("confining", 0, None, unit="kPa"), to_case=kpa_to_pa)))
+
+STUDY = Study(name="triaxial", title="Triaxial test of the Nadukuru backfill (phi for the theories)",
+              commands=(CALIBRATE,))
