@@ -20,9 +20,11 @@ def kinetic_energy(velocity: np.ndarray, mass: np.ndarray, spin: np.ndarray | No
     return e
 
 
-def unbalanced_force_ratio(v_before: np.ndarray, v_after: np.ndarray, dt: float,
+def weight_normalised_unbalance(v_before: np.ndarray, v_after: np.ndarray, dt: float,
                            mass: np.ndarray, g: float = 9.81) -> float:
-    """Mean unbalanced force over mean weight, sum |m dv/dt| / sum m g [-].
+    """Unbalanced force over weight, sum |m dv/dt| / sum m g [-]. Not PFC's
+    "unbalanced force ratio" (mean unbalanced over mean contact force, which is
+    ``dem3d.measure.unbalanced_force_ratio``): that name means only that one here.
 
     dv/dt over one step is the net acceleration (gravity plus contact impulses / dt),
     so this is PFC's / Yade's "unbalanced force" normalised by the one body force every

@@ -5,8 +5,8 @@ dropped under the gravity force"; air pluviation gives a uniform density when th
 height and the layer thickness are constant. Here each layer is a loose cloud of grains
 (areal solid fraction ``cloud_fraction``, zero velocity) whose bottom starts
 ``drop_height`` above the current surface; it falls, lands and is left to settle until
-the unbalanced-force ratio and the kinetic energy per grain are small, then the next
-layer is released. A layer holds the number of grains that fills ``layer_thickness`` at
+the unbalance (sum |m a| / sum m g, ``measure.weight_normalised_unbalance``) and the
+kinetic energy per grain are small, then the next layer is released. A layer holds the number of grains that fills ``layer_thickness`` at
 the expected deposit fraction ``target_fraction`` (the last layer is cut to reach H).
 
 The layer loop is a generator: it yields after every check (``check_every`` steps)
@@ -27,7 +27,7 @@ from analytic.inputs import require_number
 
 from .build import add_disks
 from .grading import Grading
-from .measure import kinetic_energy, unbalanced_force_ratio
+from .measure import kinetic_energy, weight_normalised_unbalance
 from .params import Material
 from .sim import Sim
 
@@ -43,7 +43,7 @@ class Pluviation:
     damping:          pymunk ``space.damping`` while filling: fraction of velocity left
                       after 1 s (1 = none). Viscous, so it also caps the fall speed at
                       g tau, tau = -1 / ln(damping). Reset to 1 when the filling ends.
-    settle_ratio:     a layer is settled when the unbalanced-force ratio of its grains
+    settle_ratio:     a layer is settled when the weight-normalised unbalance of its grains
                       is below this [-] ...
     settle_ke:        ... and their kinetic energy per grain is below this times m g d50
     final_ratio:      the same criterion for the whole deposit after the last layer [-]
@@ -112,7 +112,7 @@ class Pluviation:
 
 class LayerStatus(NamedTuple):
     """Progress of the pluviation: layer (1-based), of n_layers, grains so far, surface
-    height [m], unbalanced-force ratio [-], KE per grain / (m g d50) [-], settled flag,
+    height [m], weight-normalised unbalance [-], KE per grain / (m g d50) [-], settled flag,
     and done: the last status of this layer (settled, or its time limit reached);
     balance: vertical reactions / weight over the last check window (last layer with
     ``final_balance`` only, else nan)."""
@@ -273,7 +273,7 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
                 if by_balance:
                     sim.probe.stop()
                     balance = -float(np.sum(sim.probe.force()[:, 1])) / (float(np.sum(m_sel)) * g)
-                ratio = unbalanced_force_ratio(st_a.velocity[sel], st.velocity[sel], sim.dt, m_sel, g)
+                ratio = weight_normalised_unbalance(st_a.velocity[sel], st.velocity[sel], sim.dt, m_sel, g)
                 ke = kinetic_energy(st.velocity[sel], m_sel) / scale
                 elapsed = sim.time - t_start
                 if by_balance:

@@ -19,7 +19,6 @@ from typing import Sequence
 
 import numpy as np
 
-from analytic.errors import InvalidParameter
 from dem2d.biaxial import BiaxialCase, BiaxialTest
 from dem2d.params import Solver
 from studies.progress import progress
@@ -171,14 +170,3 @@ def phi_for_friction(friction: float, cards: str | Path | Sequence[str | Path] =
                                             and abs(t.get("dt", 0.0) - solver.dt) < 1e-12))):
                 return {**t, "card": str(p)}
     return None
-
-
-def parse_list(name: str, text: str, scale: float = 1.0) -> tuple[float, ...]:
-    """'0.3,0.5,0.7' -> (0.3, 0.5, 0.7) (times ``scale``); one-line error otherwise."""
-    try:
-        vals = tuple(float(x) * scale for x in text.split(",") if x.strip())
-    except ValueError:
-        raise InvalidParameter(name, text, "comma-separated numbers") from None
-    if not vals or any(not math.isfinite(v) or v < 0 for v in vals):
-        raise InvalidParameter(name, text, "comma-separated numbers >= 0")
-    return vals

@@ -15,7 +15,6 @@ continue alike.
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import json
 import math
 import time
@@ -34,6 +33,7 @@ from dem2d.sim import restore
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.runfolder import RunFolder, package_versions, to_plain
+from studies.store import Store, content_key
 
 #: Khosravi et al.'s published values the report compares with (shipped with the package)
 REFERENCE = Path(__file__).resolve().parent / "reference.json"
@@ -47,7 +47,7 @@ def specimen_key(case: KhosraviCase) -> str:
     """Hash of every case field that shapes the settled specimen (not the translation)."""
     d = {k: to_plain(getattr(case, k)) for k in _SPECIMEN_FIELDS}
     d["pymunk"] = package_versions().get("pymunk")
-    return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
+    return content_key(d)
 
 
 def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DEFAULT_CARDS,
@@ -60,8 +60,8 @@ def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DE
     it there for the next run (a full-size test takes ~15-25 min)."""
     bcase = BiaxialCase(d50=case.d50, cu=case.cu, particles_scale=case.particles_scale, gs=case.gs,
                         friction=case.friction, seed=case.seed, solver=case.reading_solver)
-    key = hashlib.sha256(json.dumps(to_plain(bcase), sort_keys=True).encode()).hexdigest()[:16]
-    saved = Path(root) / "khosravi" / "_biaxial" / f"{key}.json" if root is not None else None
+    store = Store(Path(root) / "khosravi" / "_biaxial") if root is not None else None
+    saved = store.path(content_key(bcase), ".json") if store is not None else None
     cards = [card] if isinstance(card, (str, Path)) else list(card)
     t = phi_for_friction(case.friction, cards + ([saved] if saved else []),
                          particles_scale=case.particles_scale, solver=case.reading_solver)
@@ -69,10 +69,8 @@ def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DE
         return {**t, "from": f"calibration card {Path(t.pop('card')).name}"}
     out, _, _ = run_one(bcase, bar, f"mu={case.friction:g}")
     out.pop("curve", None)
-    if saved is not None:
-        saved.parent.mkdir(parents=True, exist_ok=True)
-        saved.write_text(json.dumps(to_plain({"source": "biaxial test run by wallsim compare khosravi",
-                                               "tests": [out]}), indent=2) + "\n")
+    if store is not None:
+        store.save_json(content_key(bcase), {"source": "biaxial test run by wallsim compare khosravi", "tests": [out]})
     return {**out, "from": "biaxial test run for this comparison"}
 
 
@@ -102,7 +100,8 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     t_start, c_start = time.perf_counter(), time.process_time()
     rf = RunFolder("khosravi", case.seed, root=root, name=name)
     rf.write_config(case)
-    cache = Path(root) / "khosravi" / "_specimens" / f"{specimen_key(case)}.pkl"
+    specimens, key = Store(Path(root) / "khosravi" / "_specimens"), specimen_key(case)
+    cache = specimens.path(key, ".pkl")
     recorder = None
     if rrd:
         from viz.recorder import Recorder, khosravi_blueprint
@@ -112,24 +111,25 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     timings = {}
     with progress(quiet) as bar:
         t0 = time.perf_counter()
-        reused = specimen_cache and cache.exists()
-        partial = cache.with_suffix(".partial.pkl")
+        stored = specimens.load_bytes(key, ".pkl") if specimen_cache else None
+        reused = stored is not None
         if reused:
-            run = KhosraviRun(case, sim=restore(cache.read_bytes()))
+            run = KhosraviRun(case, sim=restore(stored))
         else:
-            resumed = specimen_cache and partial.exists()
-            run = KhosraviRun(case, sim=restore(partial.read_bytes()) if resumed else None)
+            partial = specimens.load_bytes(key, ".partial.pkl") if specimen_cache else None
+            resumed = partial is not None
+            run = KhosraviRun(case, sim=restore(partial) if resumed else None)
             task = bar.add_task("pluviation" + (" (resumed)" if resumed else ""), total=None, status="")
             for s in run.fill():
                 bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
                            status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, "
-                                  f"unbalanced {s.ratio:.3f}")
+                                  f"unbalance {s.ratio:.3f}")
                 if specimen_cache and s.done and s.layer < s.n_layers and s.layer % checkpoint_layers == 0:
-                    _atomic_write(partial, run.sim.snapshot())  # mid-fill checkpoint, between layers
+                    specimens.save_bytes(key, ".partial.pkl", run.sim.snapshot())  # mid-fill, between layers
             blob = run.sim.snapshot()
             if specimen_cache:
-                _atomic_write(cache, blob)
-                partial.unlink(missing_ok=True)
+                specimens.save_bytes(key, ".pkl", blob)
+                specimens.discard(key, ".partial.pkl")
             # go on from the stored specimen, as a later run reusing it will: both then
             # continue bit for bit alike, and the space is rebuilt in creation order
             run = KhosraviRun(case, sim=restore(blob))
@@ -181,13 +181,6 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
                       friction=case.friction, wall_friction=case.material.wall_friction,
                       specimen=str(cache), specimen_reused=reused, **result["timings_s"])
     return result, rf
-
-
-def _atomic_write(path: Path, data: bytes) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_bytes(data)
-    tmp.replace(path)
 
 
 def _case_text(case: KhosraviCase) -> str:

@@ -21,7 +21,6 @@ n the measured porosity of the specimen (the paper used n = 0.36).
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import json
 import math
 from dataclasses import dataclass, field
@@ -36,6 +35,7 @@ from analytic.inputs import require_number
 from dem3d import measure
 
 from ..measures import steady_displacement
+from ..store import Store, atomic_write, content_key, load_npz, npz_bytes
 
 G = 9.81
 MODES = ("T", "RB", "RT", "mixed")
@@ -272,11 +272,10 @@ PREPARATION_VERSION = 4
 
 def specimen_key(case: NadukuruCase) -> str:
     """Hash of everything that shapes the settled specimen (not the movement)."""
-    blob = json.dumps({"specimen": dataclasses.asdict(case.specimen),
-                       # an unset optional field is left out, so adding one keeps older keys
-                       "wall": {k: v for k, v in dataclasses.asdict(case.wall).items() if v is not None},
-                       "seed": case.seed, "procedure": PREPARATION_VERSION}, sort_keys=True)
-    return hashlib.sha256(blob.encode()).hexdigest()[:16]
+    return content_key({"specimen": dataclasses.asdict(case.specimen),
+                        # an unset optional field is left out, so adding one keeps older keys
+                        "wall": {k: v for k, v in dataclasses.asdict(case.wall).items() if v is not None},
+                        "seed": case.seed, "procedure": PREPARATION_VERSION})
 
 
 def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
@@ -619,18 +618,14 @@ def steady_disp_over_H(disp: np.ndarray, K: np.ndarray, window: float = 0.05) ->
 def load_or_prepare(case: NadukuruCase, cache_dir: Path, progress=None) -> tuple[Specimen, bool]:
     """The settled specimen for (recipe, wall, seed): from ``cache_dir`` if it was made
     before (so every mode starts from the same state), else prepared and saved there."""
-    key = specimen_key(case)
-    npz, meta = cache_dir / f"{key}.npz", cache_dir / f"{key}.json"
-    if npz.exists() and meta.exists():
-        info = json.loads(meta.read_text())
-        with np.load(npz, allow_pickle=False) as data:
-            state = {k: data[k] for k in data.files}
+    store, key = Store(cache_dir), specimen_key(case)
+    found = store.load_arrays(key)
+    if found is not None:
+        state, info = found
         return Specimen(state=state, **info), True
     spec = prepare_specimen(case, progress)
-    cache_dir.mkdir(parents=True, exist_ok=True)
-    np.savez(npz, **spec.state)
-    meta.write_text(json.dumps({k: (float(v) if isinstance(v, (np.floating, float)) else v)
-                                for k, v in dataclasses.asdict(spec).items() if k != "state"}, indent=1))
+    store.save_arrays(key, spec.state, {k: (float(v) if isinstance(v, (np.floating, float)) else v)
+                                        for k, v in dataclasses.asdict(spec).items() if k != "state"})
     return spec, False
 
 
@@ -646,9 +641,9 @@ def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_fram
     samples: list[LoadSample] = []
     resume = None
     if checkpoint_path is not None and Path(checkpoint_path).exists():
-        with np.load(checkpoint_path, allow_pickle=False) as data:
-            resume = {k: data[k] for k in data.files if not k.startswith("hist.")}
-            h = {k[5:]: data[k] for k in data.files if k.startswith("hist.")}
+        data = load_npz(checkpoint_path)
+        resume = {k: v for k, v in data.items() if not k.startswith("hist.")}
+        h = {k[5:]: v for k, v in data.items() if k.startswith("hist.")}
         samples = [LoadSample(float(d), float(t), int(st), float(K), float(c), float(nk), seg)
                    for d, t, st, K, c, nk, seg in zip(h["disp"], h["time"], h["step"], h["K"], h["centroid"],
                                                       h["normal"], h["seg"])]
@@ -658,9 +653,7 @@ def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_fram
                 "hist.step": [s.step for s in samples], "hist.K": [s.K for s in samples],
                 "hist.centroid": [s.centroid for s in samples], "hist.normal": [s.normal_kN for s in samples],
                 "hist.seg": np.array([s.segment_stress for s in samples])}
-        tmp = Path(checkpoint_path).with_suffix(".tmp.npz")
-        np.savez(tmp, **state, **{k: np.asarray(v) for k, v in hist.items()})
-        tmp.replace(checkpoint_path)          # atomic: an interruption never leaves half a file
+        atomic_write(checkpoint_path, npz_bytes({**state, **{k: np.asarray(v) for k, v in hist.items()}}))
 
     for sample, frame in move_wall(case, specimen, frame_every=frame_every, progress=progress, resume=resume,
                                    checkpoint=save if checkpoint_path is not None else None,

@@ -25,6 +25,7 @@ import numpy as np
 import dem3d
 from analytic.inputs import require_number
 
+from ..store import atomic_write, content_key
 from ..nadukuru.model import SpecimenRecipe, _CLUMP_VOLUME_FACTOR, _contact
 
 
@@ -209,15 +210,13 @@ def mu_compact_of(setup: TriaxialSetup, rec: SpecimenRecipe) -> float:
 
 
 def card_path(root, rec: SpecimenRecipe, seed: int):
-    """Where the calibration card of a recipe lives: runs/nadukuru/calibration/."""
-    import dataclasses
-    import hashlib
-    import json
+    """Where the calibration card of a recipe lives: runs/nadukuru/calibration/, keyed by
+    the grain and contact fields (not the particle count: one card serves every size)."""
     from pathlib import Path
     keys = ("clump_fraction", "clump_overlap", "d_min", "d_max", "kn", "ks", "particle_friction", "density",
             "deposition_friction", "damping_ratio")
-    blob = json.dumps({k: dataclasses.asdict(rec)[k] for k in keys}, sort_keys=True)
-    return Path(root) / "nadukuru" / "calibration" / f"triaxial-{hashlib.sha256(blob.encode()).hexdigest()[:12]}.json"
+    key = content_key({k: getattr(rec, k) for k in keys}, length=12)
+    return Path(root) / "nadukuru" / "calibration" / f"triaxial-{key}.json"
 
 
 def _solid_volume(sim) -> float:
@@ -249,7 +248,5 @@ def calibrate_triaxial(case, setup: TriaxialSetup, *, particles: int, root, prog
                   "sigma_1_kPa": (res.sigma_1[::10] / 1e3).tolist(), "sigma_3_kPa": (res.sigma_3[::10] / 1e3).tolist()},
         "paper": {"phi_deg": 39.0, "source": "Nadukuru & Michalowski (2012): cylinder 1.2 m, 8,200 particles, 200 kPa"},
     }
-    path = card_path(root, case.specimen, case.seed)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(card, indent=1))
+    path = atomic_write(card_path(root, case.specimen, case.seed), json.dumps(card, indent=1).encode())
     return card, path

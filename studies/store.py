@@ -1,0 +1,89 @@
+"""One store for everything a run keeps for the next one: settled specimens, mid-run
+checkpoints, calibration tests and cards.
+
+An entry is named by a content key, the hash of everything that shapes it
+(``content_key``), so a changed setting never reuses a stale entry; every write goes to
+a temporary file first and is renamed into place (``atomic_write``), so an interrupted
+run never leaves half a file for the next one to read.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .runfolder import to_plain
+
+
+def content_key(obj, length: int = 16) -> str:
+    """Hex SHA-256 of ``obj`` as sorted JSON (dataclasses and numpy values made plain),
+    cut to ``length`` characters."""
+    blob = json.dumps(to_plain(obj), sort_keys=True)
+    return hashlib.sha256(blob.encode()).hexdigest()[:length]
+
+
+def atomic_write(path: str | Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` through a temporary file renamed into place."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_bytes(data)
+    tmp.replace(path)
+    return path
+
+
+def npz_bytes(arrays: dict) -> bytes:
+    """``arrays`` as the bytes of an uncompressed .npz (what ``np.savez`` writes)."""
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    return buf.getvalue()
+
+
+def load_npz(path: str | Path) -> dict:
+    with np.load(path, allow_pickle=False) as data:
+        return {k: data[k] for k in data.files}
+
+
+class Store:
+    """A folder of keyed entries: ``<key>.npz`` + ``<key>.json`` (arrays and what they
+    are), ``<key><suffix>`` bytes, or ``<key>.json`` alone."""
+
+    def __init__(self, folder: str | Path):
+        self.folder = Path(folder)
+
+    def path(self, key: str, suffix: str) -> Path:
+        return self.folder / f"{key}{suffix}"
+
+    def load_arrays(self, key: str) -> tuple[dict, dict] | None:
+        """(arrays, metadata) stored under ``key``, or None."""
+        npz, meta = self.path(key, ".npz"), self.path(key, ".json")
+        if not (npz.exists() and meta.exists()):
+            return None
+        return load_npz(npz), json.loads(meta.read_text())
+
+    def save_arrays(self, key: str, arrays: dict, meta: dict) -> None:
+        """Arrays first, metadata (JSON-ready: NaN stays NaN) last: an entry counts as
+        present once both exist."""
+        atomic_write(self.path(key, ".npz"), npz_bytes(arrays))
+        atomic_write(self.path(key, ".json"), json.dumps(meta, indent=1).encode())
+
+    def load_bytes(self, key: str, suffix: str) -> bytes | None:
+        p = self.path(key, suffix)
+        return p.read_bytes() if p.exists() else None
+
+    def save_bytes(self, key: str, suffix: str, data: bytes) -> Path:
+        return atomic_write(self.path(key, suffix), data)
+
+    def discard(self, key: str, suffix: str) -> None:
+        self.path(key, suffix).unlink(missing_ok=True)
+
+    def load_json(self, key: str) -> dict | None:
+        p = self.path(key, ".json")
+        return json.loads(p.read_text()) if p.exists() else None
+
+    def save_json(self, key: str, obj) -> Path:
+        return atomic_write(self.path(key, ".json"), (json.dumps(to_plain(obj), indent=2) + "\n").encode())
