@@ -129,8 +129,9 @@ class RunFolder:
         self.load_at_start = _load_average()
 
     @classmethod
-    def existing(cls, path: str | Path) -> "RunFolder":
-        """Re-open an existing run folder (to resume an interrupted run)."""
+    def existing(cls, path: str | Path, seed: int = -1) -> "RunFolder":
+        """Re-open an existing run folder (to resume an interrupted run); ``seed`` is the
+        resumed case's, so the manifest keeps the real one."""
         from analytic.errors import InvalidParameter
         path = Path(path)
         if not (path / "config.toml").exists():
@@ -138,7 +139,7 @@ class RunFolder:
         self = cls.__new__(cls)
         self.path = path
         self.case = path.parent.name
-        self.seed = -1
+        self.seed = seed
         self._t0 = time.perf_counter()
         self.git = git_revision()
         self.load_at_start = _load_average()

@@ -33,6 +33,7 @@ from dem2d.sim import restore
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.runfolder import RunFolder, package_versions, to_plain
+from studies.runner import Stopwatch, finish, open_recording, open_run_folder
 from studies.store import Store, content_key
 
 #: Khosravi et al.'s published values the report compares with (shipped with the package)
@@ -94,93 +95,89 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     ``<key>.partial.pkl`` (an interrupted pluviation resumes from it), and the settled
     specimen to ``<key>.pkl`` (later runs with the same key skip the pluviation).
     Returns (result dict, run folder)."""
-    from viz.figures import (plot_khosravi_at_rest, plot_khosravi_backfilling, plot_khosravi_profiles,
-                             plot_khosravi_vs_displacement)
-
-    t_start, c_start = time.perf_counter(), time.process_time()
-    rf = RunFolder("khosravi", case.seed, root=root, name=name)
-    rf.write_config(case)
+    clock, c_start = Stopwatch(), time.process_time()
+    rf = open_run_folder("khosravi", case, root, name=name)
     specimens, key = Store(Path(root) / "khosravi" / "_specimens"), specimen_key(case)
-    cache = specimens.path(key, ".pkl")
-    recorder = None
-    if rrd:
-        from viz.recorder import Recorder, khosravi_blueprint
-        recorder = Recorder(rf.file("recording.rrd"), dim=2, recording_id=f"khosravi-{case.seed}",
-                            app_id="wallsim_khosravi", blueprint=khosravi_blueprint())
-        recorder.log_case(_case_text(case))
-    timings = {}
+    recorder = _recording(rf, case) if rrd else None
     with progress(quiet) as bar:
-        t0 = time.perf_counter()
-        stored = specimens.load_bytes(key, ".pkl") if specimen_cache else None
-        reused = stored is not None
-        if reused:
-            run = KhosraviRun(case, sim=restore(stored))
-        else:
-            partial = specimens.load_bytes(key, ".partial.pkl") if specimen_cache else None
-            resumed = partial is not None
-            run = KhosraviRun(case, sim=restore(partial) if resumed else None)
-            task = bar.add_task("pluviation" + (" (resumed)" if resumed else ""), total=None, status="")
-            for s in run.fill():
-                bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
-                           status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, "
-                                  f"unbalance {s.ratio:.3f}")
-                if specimen_cache and s.done and s.layer < s.n_layers and s.layer % checkpoint_layers == 0:
-                    specimens.save_bytes(key, ".partial.pkl", run.sim.snapshot())  # mid-fill, between layers
-            blob = run.sim.snapshot()
-            if specimen_cache:
-                specimens.save_bytes(key, ".pkl", blob)
-                specimens.discard(key, ".partial.pkl")
-            # go on from the stored specimen, as a later run reusing it will: both then
-            # continue bit for bit alike, and the space is rebuilt in creation order
-            run = KhosraviRun(case, sim=restore(blob))
-        timings["pluviation_s"] = time.perf_counter() - t0
-        bf = run.backfill
-        t0 = time.perf_counter()
-        rest = run.at_rest()
-        z = run.panel_depths()
-        timings["at_rest_s"] = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        n_total = int(math.ceil(case.dis_over_H_max * bf.H / (case.wall_speed * case.window)))
-        every = max(1, n_total // max(frames, 1))
-        task = bar.add_task("translation", total=n_total, status="")
-        gH = bf.gamma * bf.H
-        _log(recorder, run, rest, z, 0.0, gH)
-        for k, r in enumerate(run.translate()):
-            bar.update(task, completed=k + 1, status=f"Dis/H {r.dis / bf.H:.5f}")
-            if "translation_to_active_s" not in timings and r.dis / bf.H >= case.dis_over_H_active:
-                # the paper's movement ends here; a validation run goes on to judge steadiness
-                timings["translation_to_active_s"] = time.perf_counter() - t0
-            if recorder is not None and (k + 1) % every == 0:
-                _log(recorder, run, r, z, r.dis / bf.H, gH)
-        timings["translation_s"] = time.perf_counter() - t0
+        with clock("pluviation_s"):
+            run, reused = settled_box(case, specimens if specimen_cache else None, key, bar, checkpoint_layers)
+        with clock("at_rest_s"):
+            rest = run.at_rest()
+        with clock("translation_s"):
+            _translate(run, rest, recorder, bar, frames, clock)
         # phi of the same material, looked up (or measured) after the long part so a
         # calibration running alongside can finish first
-        t0 = time.perf_counter()
-        phi_info = biaxial_phi(case, bar, card, root)
-        # the peak: Khosravi et al.'s 20.7 deg is the plateau of a stiff-contact test, and
-        # with converged impulses the critical state of free disks saturates at ~18.5 deg
-        phi = float(phi_info["phi_peak_deg"])
-        th = theories(phi, bf.gamma, bf.H)
-        timings["biaxial_s"] = time.perf_counter() - t0
+        with clock("biaxial_s"):
+            phi_info = biaxial_phi(case, bar, card, root)
+            # the peak: Khosravi et al.'s 20.7 deg is the plateau of a stiff-contact test, and
+            # with converged impulses the critical state of free disks saturates at ~18.5 deg
+            phi = float(phi_info["phi_peak_deg"])
+            th = theories(phi, run.backfill.gamma, run.backfill.H)
     if recorder is not None:
-        recorder.log_theory_profiles(list(th.values()), bf.gamma, bf.H)
+        recorder.log_theory_profiles(list(th.values()), run.backfill.gamma, run.backfill.H)
         recorder.close()
-    result = summarize(run, rest, phi, phi_info, th, reused, cache)
+    result = summarize(run, rest, phi, phi_info, th, reused, specimens.path(key, ".pkl"))
     # wall time on a shared machine depends on the other jobs: CPU time of this process too
-    result["timings_s"] = {**timings, "total": time.perf_counter() - t_start,
-                           "cpu_total": time.process_time() - c_start}
-    _write_outputs(rf, run, rest, result, th, plot_khosravi_at_rest, plot_khosravi_vs_displacement,
-                   plot_khosravi_profiles)
-    if bf.layer_readings:
-        plot_khosravi_backfilling(bf.layer_readings, rf.file("fig09_backfilling.png"), gamma=bf.gamma, H=bf.H,
-                                  panel_height=case.panel_height,
-                                  title=f"During backfilling, {bf.n_grains} disks (Khosravi Fig. 9)")
-    rf.write_json("result.json", result)
-    rf.write_manifest(n_grains=bf.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
-                      iterations_readings=case.reading_solver.iterations,
-                      friction=case.friction, wall_friction=case.material.wall_friction,
-                      specimen=str(cache), specimen_reused=reused, **result["timings_s"])
+    result["timings_s"] = {**clock.seconds, "total": clock.total, "cpu_total": time.process_time() - c_start}
+    _write_outputs(rf, run, rest, result, th)
+    finish(rf, result, n_grains=run.backfill.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
+           iterations_readings=case.reading_solver.iterations, friction=case.friction,
+           wall_friction=case.material.wall_friction, specimen=result["specimen"], specimen_reused=reused,
+           **result["timings_s"])
     return result, rf
+
+
+def settled_box(case: KhosraviCase, specimens: Store | None, key: str, bar,
+                checkpoint_layers: int = 3) -> tuple[KhosraviRun, bool]:
+    """The filled box: the stored specimen if ``specimens`` holds one under ``key``,
+    else a pluviation (resumed from a mid-fill checkpoint if one is stored) that is then
+    stored. Returns (run, whether a stored specimen was reused)."""
+    stored = specimens.load_bytes(key, ".pkl") if specimens is not None else None
+    if stored is not None:
+        return KhosraviRun(case, sim=restore(stored)), True
+    partial = specimens.load_bytes(key, ".partial.pkl") if specimens is not None else None
+    run = KhosraviRun(case, sim=restore(partial) if partial is not None else None)
+    task = bar.add_task("pluviation" + (" (resumed)" if partial is not None else ""), total=None, status="")
+    for s in run.fill():
+        bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
+                   status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, unbalance {s.ratio:.3f}")
+        if specimens is not None and s.done and s.layer < s.n_layers and s.layer % checkpoint_layers == 0:
+            specimens.save_bytes(key, ".partial.pkl", run.sim.snapshot())  # mid-fill, between layers
+    blob = run.sim.snapshot()
+    if specimens is not None:
+        specimens.save_bytes(key, ".pkl", blob)
+        specimens.discard(key, ".partial.pkl")
+    # go on from the stored specimen, as a later run reusing it will: both then continue
+    # bit for bit alike, and the space is rebuilt in creation order
+    return KhosraviRun(case, sim=restore(blob)), False
+
+
+def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwatch) -> None:
+    """Move the wall to Dis/H = case.dis_over_H_max (readings into ``run.history``),
+    logging ``frames`` scenes; notes when the paper's active reading was reached."""
+    case, bf = run.case, run.backfill
+    t0 = time.perf_counter()
+    n_total = int(math.ceil(case.dis_over_H_max * bf.H / (case.wall_speed * case.window)))
+    every = max(1, n_total // max(frames, 1))
+    task = bar.add_task("translation", total=n_total, status="")
+    z, gH = run.panel_depths(), bf.gamma * bf.H
+    _log(recorder, run, rest, z, 0.0, gH)
+    for k, r in enumerate(run.translate()):
+        bar.update(task, completed=k + 1, status=f"Dis/H {r.dis / bf.H:.5f}")
+        if "translation_to_active_s" not in clock.seconds and r.dis / bf.H >= case.dis_over_H_active:
+            # the paper's movement ends here; a validation run goes on to judge steadiness
+            clock.seconds["translation_to_active_s"] = time.perf_counter() - t0
+        if recorder is not None and (k + 1) % every == 0:
+            _log(recorder, run, r, z, r.dis / bf.H, gH)
+
+
+def _recording(rf: RunFolder, case: KhosraviCase):
+    from viz.recorder import khosravi_blueprint
+    recorder = open_recording(rf.file("recording.rrd"), study="khosravi", dim=2,
+                              recording_id=f"khosravi-{case.seed}", blueprint=khosravi_blueprint())
+    recorder.log_case(_case_text(case))
+    return recorder
 
 
 def _case_text(case: KhosraviCase) -> str:
@@ -218,78 +215,67 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
               cache: Path) -> dict:
     """Headline numbers: the ones the issue asks for, each with what it is compared to."""
     c, bf = run.case, run.backfill
-    z = run.panel_depths()
-    ph = c.panel_height
     H, g = bf.H, bf.gamma
+    act = active_record(run)
+    d, m_rest, _ = run.readings_of(rest)
+    _, m_act, _ = run.readings_of(act)
+    F_act = normal_thrust(act.sigma, run.panel_depths(), c.panel_height)
+    return {
+        "case": "khosravi", "particles": bf.n_grains, "seed": c.seed, "dt_s": c.solver.dt,
+        "iterations": c.solver.iterations,              # sweeps a step during the fill
+        "iterations_readings": c.reading_solver.iterations,  # at rest and translation
+        "friction": c.friction, "wall_friction": c.material.wall_friction,
+        "pymunk": package_versions().get("pymunk"),
+        "H_m": H, "gamma_N_per_m3": g, "porosity": bf.porosity, "porosity_interior": bf.interior_porosity,
+        "specimen_reused": reused, "specimen": str(cache),
+        "dis_over_H_active": float(act.dis / H),      # where the "active" figures are read
+        "dis_over_H_end": float(run.history[-1].dis / H),  # where the wall stopped (steadiness judged up to it)
+        "phi_biaxial_source": phi_info.get("from"),
+        "dem": {"phi_biaxial": phi, "phi_biaxial_peak": phi_info.get("phi_peak_deg"),
+                "phi_biaxial_cs": phi_info.get("phi_cs_deg"),
+                **_wall_figures(run, rest, act, phi), **_balance(rest, bf)},
+        "readings": {"z_over_H": (d / H).tolist(), "at_rest_over_gammaH": (m_rest / (g * H)).tolist(),
+                     "active_over_gammaH": (m_act / (g * H)).tolist()},
+        "theory_thrust_over_dem_active": {k: p.normal_force() / F_act for k, p in th.items() if k != "jaky"},
+    }
+
+
+def _wall_figures(run: KhosraviRun, rest, act, phi: float) -> dict:
+    """At-rest K against Jaky, active thrust against Rankine, steadiness, and the bottom
+    corner (PS0) against the readings above it and Jaky at its depth."""
+    c, bf = run.case, run.backfill
+    z, ph, H, g = run.panel_depths(), c.panel_height, bf.H, bf.gamma
     K0_jaky = jaky_coefficient(math.radians(phi))
     K_up = k_upper_half(rest.sigma, z, ph, g, H)
     d, m_rest, ps0_rest = run.readings_of(rest)
-    hist = run.history
-    act = active_record(run)
     _, m_act, ps0_act = run.readings_of(act)
-    F_rest = normal_thrust(rest.sigma, z, ph)
-    F_act = normal_thrust(act.sigma, z, ph)
-    Ka = rankine_coefficient(math.radians(phi), 0.0)
-    F_rankine = 0.5 * Ka * g * H**2
-    dis = np.array([0.0] + [r.dis / H for r in hist])
-    F = np.array([F_rest] + [normal_thrust(r.sigma, z, ph) for r in hist])
-    steady90 = steady_displacement(dis, F, 0.9)
-    steady95 = steady_displacement(dis, F, 0.95)
-    below = bool(np.all(m_act < m_rest))
-    # PS0 against the reading just above it and against Jaky at its depth
+    F_rest, F_act = normal_thrust(rest.sigma, z, ph), normal_thrust(act.sigma, z, ph)
+    F_rankine = 0.5 * rankine_coefficient(math.radians(phi), 0.0) * g * H**2
+    dis = np.array([0.0] + [r.dis / H for r in run.history])
+    F = np.array([F_rest] + [normal_thrust(r.sigma, z, ph) for r in run.history])
     z_ps0 = H - 0.5 * ph
-    res = {
-        "case": "khosravi",
-        "particles": bf.n_grains,
-        "seed": c.seed,
-        "dt_s": c.solver.dt,
-        "iterations": c.solver.iterations,              # sweeps a step during the fill
-        "iterations_readings": c.reading_solver.iterations,  # at rest and translation
-        "friction": c.friction,
-        "wall_friction": c.material.wall_friction,
-        "pymunk": package_versions().get("pymunk"),
-        "H_m": H,
-        "gamma_N_per_m3": g,
-        "porosity": bf.porosity,
-        "porosity_interior": bf.interior_porosity,
-        "specimen_reused": reused,
-        "specimen": str(cache),
-        "dis_over_H_active": float(act.dis / H),      # where the "active" figures are read
-        "dis_over_H_end": float(hist[-1].dis / H),    # where the wall stopped (steadiness is judged up to it)
-        "phi_biaxial_source": phi_info.get("from"),
-        "dem": {
-            "phi_biaxial": phi,
-            "phi_biaxial_peak": phi_info.get("phi_peak_deg"),
-            "phi_biaxial_cs": phi_info.get("phi_cs_deg"),
-            "K_at_rest_upper_half": K_up,
-            "jaky_K0": K0_jaky,
-            "K_at_rest_upper_half_over_jaky": K_up / K0_jaky,
-            "K_at_rest_total": 2 * F_rest / (g * H**2),
-            "K_active_total": 2 * F_act / (g * H**2),
-            "active_thrust_N_per_m": F_act,
-            "rankine_thrust_N_per_m": F_rankine,
-            "active_thrust_over_rankine": F_act / F_rankine,
-            "active_below_at_rest_everywhere": below,
-            "dis_over_H_steady": steady90,
-            "dis_over_H_steady_95": steady95,
-            "PS0_at_rest_over_gammaH": ps0_rest / (g * H),
-            "PS0_at_rest_over_jaky": ps0_rest / (K0_jaky * g * z_ps0),
-            "PS0_active_over_gammaH": ps0_act / (g * H),
-            "lowest_reading_at_rest_over_gammaH": float(m_rest[0] / (g * H)) if len(m_rest) else None,
-            # a milder measure of the corner: PS0 against the straight line through the
-            # readings (the paper: "nearly linear ... except for the lower corner")
-            "PS0_at_rest_over_linear_trend": _over_linear_trend(ps0_rest, d, m_rest, z_ps0),
-            "weight_balance": -(rest.floor_fy + rest.wall_fy + rest.far_fy) / bf.weight,
-            "wall_friction_share_of_weight": -rest.wall_fy / bf.weight,
-        },
-        "readings": {
-            "z_over_H": (d / H).tolist(),
-            "at_rest_over_gammaH": (m_rest / (g * H)).tolist(),
-            "active_over_gammaH": (m_act / (g * H)).tolist(),
-        },
-        "theory_thrust_over_dem_active": {k: p.normal_force() / F_act for k, p in th.items() if k != "jaky"},
+    return {
+        "K_at_rest_upper_half": K_up, "jaky_K0": K0_jaky, "K_at_rest_upper_half_over_jaky": K_up / K0_jaky,
+        "K_at_rest_total": 2 * F_rest / (g * H**2), "K_active_total": 2 * F_act / (g * H**2),
+        "active_thrust_N_per_m": F_act, "rankine_thrust_N_per_m": F_rankine,
+        "active_thrust_over_rankine": F_act / F_rankine,
+        "active_below_at_rest_everywhere": bool(np.all(m_act < m_rest)),
+        "dis_over_H_steady": steady_displacement(dis, F, 0.9),
+        "dis_over_H_steady_95": steady_displacement(dis, F, 0.95),
+        "PS0_at_rest_over_gammaH": ps0_rest / (g * H),
+        "PS0_at_rest_over_jaky": ps0_rest / (K0_jaky * g * z_ps0),
+        "PS0_active_over_gammaH": ps0_act / (g * H),
+        "lowest_reading_at_rest_over_gammaH": float(m_rest[0] / (g * H)) if len(m_rest) else None,
+        # a milder measure of the corner: PS0 against the straight line through the
+        # readings (the paper: "nearly linear ... except for the lower corner")
+        "PS0_at_rest_over_linear_trend": _over_linear_trend(ps0_rest, d, m_rest, z_ps0),
     }
-    return res
+
+
+def _balance(rest, bf) -> dict:
+    """The vertical reactions of floor and walls against the grains' weight."""
+    return {"weight_balance": -(rest.floor_fy + rest.wall_fy + rest.far_fy) / bf.weight,
+            "wall_friction_share_of_weight": -rest.wall_fy / bf.weight}
 
 
 def _over_linear_trend(value: float, depth: np.ndarray, readings: np.ndarray, z: float) -> float | None:
@@ -299,55 +285,80 @@ def _over_linear_trend(value: float, depth: np.ndarray, readings: np.ndarray, z:
     return float(value / np.polyval(np.polyfit(depth, readings, 1), z))
 
 
-def _write_outputs(rf, run, rest, result, th, fig10, fig12, fig13) -> None:
-    c, bf = run.case, run.backfill
-    z = run.panel_depths()
-    H, g = bf.H, bf.gamma
-    gH = g * H
-    rf.write_csv("at_rest_panels.csv", ["panel", "z_m", "z_over_H", "sigma_h_kPa", "tau_kPa",
-                                        "sigma_over_gammaH", "contacts_per_step"],
-                 [[i, z[i], z[i] / H, rest.sigma[i] / 1e3, rest.tau[i] / 1e3, rest.sigma[i] / gH,
-                   rest.contacts[i]] for i in range(len(z))])
-    act = active_record(run)
-    rf.write_csv("active_panels.csv", ["panel", "z_m", "z_over_H", "sigma_h_kPa", "tau_kPa",
-                                       "sigma_over_gammaH"],
-                 [[i, z[i], z[i] / H, act.sigma[i] / 1e3, act.tau[i] / 1e3, act.sigma[i] / gH]
-                  for i in range(len(z))])
+def _write_outputs(rf, run, rest, result, th) -> None:
+    """The run folder's tables and figures (Khosravi Figs. 9, 10, 12, 13)."""
+    _write_tables(rf, run, rest)
+    _write_figures(rf, run, rest, result, th)
+
+
+def _readings_series(run: KhosraviRun, rest) -> tuple[np.ndarray, list, dict]:
+    """Dis/H of every reading (at rest first), the CSV rows of the 4-panel readings and
+    PS0, and each reading point's series of sigma / (gamma H) for Fig. 12."""
+    c, H, gH = run.case, run.backfill.H, run.backfill.gamma * run.backfill.H
     rows, series = [], {}
-    hist = [rest] + run.history
     dis = np.array([0.0] + [r.dis / H for r in run.history])
-    for k, r in enumerate(hist):
+    for k, r in enumerate([rest] + run.history):
         d, m, ps0 = run.readings_of(r)
         for j, (dz, mv) in enumerate(zip(d, m)):
             rows.append([dis[k], f"P{j + 1}", dz / H, mv / 1e3, mv / gH])
             series.setdefault(f"P{j + 1} (z/H = {dz / H:.2f})", []).append(mv / gH)
         rows.append([dis[k], "PS0", (H - 0.5 * c.panel_height) / H, ps0 / 1e3, ps0 / gH])
         series.setdefault("PS0 (bottom panel)", []).append(ps0 / gH)
+    return dis, rows, series
+
+
+def _write_tables(rf, run: KhosraviRun, rest) -> None:
+    """Panels at rest and active, the readings against Dis/H, every panel of every
+    window (a report can be re-read at any Dis/H), and the readings while filling."""
+    c, bf = run.case, run.backfill
+    z, H = run.panel_depths(), bf.H
+    gH = bf.gamma * H
+    act = active_record(run)
+    for name, r, extra in (("at_rest_panels.csv", rest, ["contacts_per_step"]), ("active_panels.csv", act, [])):
+        rf.write_csv(name, ["panel", "z_m", "z_over_H", "sigma_h_kPa", "tau_kPa", "sigma_over_gammaH"] + extra,
+                     [[i, z[i], z[i] / H, r.sigma[i] / 1e3, r.tau[i] / 1e3, r.sigma[i] / gH]
+                      + ([r.contacts[i]] if extra else []) for i in range(len(z))])
+    dis, rows, _ = _readings_series(run, rest)
     rf.write_csv("readings_vs_displacement.csv", ["dis_over_H", "point", "z_over_H", "sigma_h_kPa",
                                                    "sigma_over_gammaH"], rows)
-    # every panel of every window: a report can be re-read at any Dis/H from the run folder
     rf.write_csv("panels_vs_displacement.csv", ["dis_over_H", "panel", "z_m", "sigma_h_kPa", "tau_kPa"],
                  [[dis[k], i, z[i], r.sigma[i] / 1e3, r.tau[i] / 1e3]
-                  for k, r in enumerate(hist) for i in range(len(z))])
-    layer_rows = []
-    for layer, surf, sig in bf.layer_readings:
-        for i, s in enumerate(sig):
-            layer_rows.append([layer, surf, i, (i + 0.5) * c.panel_height, s / 1e3])
+                  for k, r in enumerate([rest] + run.history) for i in range(len(z))])
     rf.write_csv("backfilling.csv", ["layer", "surface_m", "panel", "panel_centre_height_m", "sigma_h_kPa"],
-                 layer_rows)
-    dem = result["dem"]
+                 [[layer, surf, i, (i + 0.5) * c.panel_height, s / 1e3]
+                  for layer, surf, sig in bf.layer_readings for i, s in enumerate(sig)])
+
+
+def _write_figures(rf, run: KhosraviRun, rest, result: dict, th: dict) -> None:
+    """Khosravi et al.'s Figs. 9 (while filling), 10 (at rest), 12 (readings against
+    Dis/H) and 13 (profiles against the theories)."""
+    from viz.figures import (plot_khosravi_at_rest, plot_khosravi_backfilling, plot_khosravi_profiles,
+                             plot_khosravi_vs_displacement)
+
+    c, bf, dem = run.case, run.backfill, result["dem"]
+    z, H, g = run.panel_depths(), bf.H, bf.gamma
+    gH = g * H
+    act = active_record(run)
     d, m_rest, ps0 = run.readings_of(rest)
     _, m_act, _ = run.readings_of(act)
+    dis, _, series = _readings_series(run, rest)
     inside = z > 0
-    fig10(d / H, m_rest / gH, rf.file("fig10_at_rest.png"), jaky_K=dem["jaky_K0"],
-          ps0=((H - 0.5 * c.panel_height) / H, ps0 / gH), panels=(z[inside] / H, rest.sigma[inside] / gH),
-          title=f"At rest, H = {H * 1e3:.0f} mm, {bf.n_grains} disks\nK upper half {dem['K_at_rest_upper_half']:.3f}")
-    fig12(dis, {k: np.array(v) for k, v in series.items()}, rf.file("fig12_pressure_vs_displacement.png"),
-          steady=dem["dis_over_H_steady"], title=f"H = {H * 1e3:.0f} mm, {bf.n_grains} disks, "
-                                                  f"wall speed {c.wall_speed * 1e3:g} mm/s")
-    fig13(d / H, m_rest / gH, m_act / gH, [p for k, p in th.items() if k != "jaky"],
-          rf.file("fig13_profiles.png"), jaky_K=dem["jaky_K0"], gamma=g, H=H, dis_over_H=act.dis / H,
-          title=f"phi_biaxial = {dem['phi_biaxial']:.1f} deg, delta = phi")
+    plot_khosravi_at_rest(d / H, m_rest / gH, rf.file("fig10_at_rest.png"), jaky_K=dem["jaky_K0"],
+                          ps0=((H - 0.5 * c.panel_height) / H, ps0 / gH),
+                          panels=(z[inside] / H, rest.sigma[inside] / gH),
+                          title=f"At rest, H = {H * 1e3:.0f} mm, {bf.n_grains} disks\n"
+                                f"K upper half {dem['K_at_rest_upper_half']:.3f}")
+    plot_khosravi_vs_displacement(dis, {k: np.array(v) for k, v in series.items()},
+                                  rf.file("fig12_pressure_vs_displacement.png"), steady=dem["dis_over_H_steady"],
+                                  title=f"H = {H * 1e3:.0f} mm, {bf.n_grains} disks, "
+                                        f"wall speed {c.wall_speed * 1e3:g} mm/s")
+    plot_khosravi_profiles(d / H, m_rest / gH, m_act / gH, [p for k, p in th.items() if k != "jaky"],
+                           rf.file("fig13_profiles.png"), jaky_K=dem["jaky_K0"], gamma=g, H=H,
+                           dis_over_H=act.dis / H, title=f"phi_biaxial = {dem['phi_biaxial']:.1f} deg, delta = phi")
+    if bf.layer_readings:
+        plot_khosravi_backfilling(bf.layer_readings, rf.file("fig09_backfilling.png"), gamma=g, H=H,
+                                  panel_height=c.panel_height,
+                                  title=f"During backfilling, {bf.n_grains} disks (Khosravi Fig. 9)")
 
 
 #: the validation moves the wall on to here and reads the active state at 0.003: a run that
