@@ -47,3 +47,36 @@ def test_engines_and_theories_are_pure():
 def test_analytic_depends_on_no_engine():
     for p in _sources("analytic"):
         assert not (_imports(p) & {"dem2d", "dem3d", "viz", "studies", "pymunk", "numba"}), p
+
+
+def _modules_imported(path: Path) -> set[str]:
+    """Full dotted names of every absolute import in a file."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            out |= {node.module} | {f"{node.module}.{a.name}" for a in node.names}
+    return out
+
+
+def test_engines_import_no_study():
+    for pkg in ("analytic", "dem2d", "dem3d"):
+        for p in _sources(pkg):
+            assert "studies" not in _imports(p), p
+
+
+def test_cli_names_no_study():
+    """cli.py builds the study commands from the registry: adding a study adds no code there."""
+    from studies import NAMES
+    named = {m for m in _modules_imported(ROOT / "cli.py")
+             if m.startswith("studies.") and m.split(".")[1] in NAMES}
+    assert named == set()
+
+
+def test_every_validation_report_is_indexed():
+    """docs/validation/README.md names every file and folder at the top of docs/validation."""
+    folder = ROOT / "docs" / "validation"
+    index = (folder / "README.md").read_text()
+    missing = [p.name for p in folder.iterdir() if p.name != "README.md" and p.name not in index]
+    assert missing == []
