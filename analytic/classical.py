@@ -48,11 +48,12 @@ def _linear_profile(method: str, soil: Soil, wall: Wall, K: float, direction: fl
     moment = K * (0.5 * g * H**2 * H / 3 + qe * H * H / 2)
     height = moment / thrust if thrust > 0 else H / 3
     horiz = math.cos(direction + wall.omega)
-    unit = 0.5 * g * H**2
+    # K stays the soil coefficient with a surcharge; the surcharge's thrust is reported apart
+    extra = {**(extra or {}), "thrust_q": K * qe * H}
     return Profile(method=method, z=z, sigma_h=sigma, tau=tau, thrust=thrust,
-                   thrust_h=thrust * horiz, height=height, K=thrust / unit,
-                   Kh=thrust * horiz / unit, H=H, omega_deg=wall.omega_deg,
-                   source=source, status=status, notes=notes, extra=extra or {})
+                   thrust_h=thrust * horiz, height=height, K=K,
+                   Kh=K * horiz, H=H, omega_deg=wall.omega_deg,
+                   source=source, status=status, notes=notes, extra=extra)
 
 
 # --------------------------------------------------------------------------- Rankine
