@@ -170,8 +170,10 @@ def trial_wedge(soil: Soil, wall: Wall, passive: bool = False, kh: float = 0.0,
         rx, ry = -np.sin(rho - sign * phi), np.cos(rho - sign * phi)
         return (-ex * ry + ey * rx) / (px * ry - py * rx)
 
-    # the slip plane must cut the surface (rho > beta) and stay in front of the face
-    lo = (b if passive else max(phi, b)) + 1e-6
+    # the slip plane must cut the surface (rho > beta) and stay in front of the face; an
+    # active wedge under inertia can slip below phi, down to phi - psi (psi the inertia angle)
+    psi = math.atan2(kh, 1.0 - kv)
+    lo = (b if passive else max(phi - psi, b)) + 1e-6
     hi = math.pi / 2 + om - 1e-6
     grid = np.linspace(lo, hi, 2001)
     vals = thrust(grid)
