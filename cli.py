@@ -95,6 +95,9 @@ def _cmd_theory(args) -> int:
     ground = theory_ground(soil, wall.height, c_kPa=args.c, gamma_sat_kN=args.gamma_sat,
                            water_depth=args.water_depth, water_depth_front=args.water_depth_front,
                            layers_table=layers)
+    if args.layers:
+        top = ground.layers[0]       # the table's title and inputs show the top layer
+        soil = Soil(top.phi_deg, top.unit_weight)
     loads = theory_loads(args.line_load, args.strip_load)
     rows = theory_table(soil, wall, kh=args.kh, kv=args.kv, passive=args.passive,
                         width=args.width, ps_exponent=args.ps_exponent, ground=ground,

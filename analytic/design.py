@@ -166,11 +166,12 @@ class Ground:
 @dataclass(frozen=True)
 class Part:
     """One part of the load on the wall: normal force N [N/m] (per metre of wall, along the
-    face normal), its horizontal component [N/m] and height above the base [m]."""
+    face normal), its horizontal component [N/m] and height above the base [m] (None when
+    the part is zero)."""
 
     N: float
     horizontal: float
-    height: float
+    height: float | None
 
     def as_dict(self) -> dict:
         return {"normal_kN_per_m": self.N / 1e3, "horizontal_kN_per_m": self.horizontal / 1e3,
@@ -234,7 +235,8 @@ class DesignProfile:
         names = ("soil", "surcharge", "water")
         N = sum(self.parts[n].N for n in names)
         T = (self.parts["soil"].N + self.extra["N_q_uniform"]) * math.tan(d)
-        height = sum(self.parts[n].N * self.parts[n].height for n in names) / N if N > 0 else self.H / 3
+        height = (sum(self.parts[n].N * self.parts[n].height for n in names if self.parts[n].N > 0) / N
+                  if N > 0 else self.H / 3)
         K = self.K_layers[0]
         return Profile(method=self.method, z=self.z, sigma_h=self.sigma_total,
                        tau=(self.sigma_soil + self.sigma_q) * math.tan(d), thrust=math.hypot(N, T),
@@ -299,7 +301,7 @@ def _integrate(z, s):
 
 
 def _part(F, M, H, horizontal_factor) -> Part:
-    return Part(N=F, horizontal=F * horizontal_factor, height=H - M / F if F > 0 else 0.0)
+    return Part(N=F, horizontal=F * horizontal_factor, height=H - M / F if F > 0 else None)
 
 
 def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive: bool = False, *,
@@ -371,7 +373,7 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
         "soil": _part(F0 / cos_o, M0 / cos_o, H, horiz),
         "surcharge": Part(N=N_q_uniform + FL,
                           horizontal=N_q_uniform * horiz + FL,
-                          height=H - (Mq / cos_o + ML) / (N_q_uniform + FL) if N_q_uniform + FL > 0 else 0.0),
+                          height=H - (Mq / cos_o + ML) / (N_q_uniform + FL) if N_q_uniform + FL > 0 else None),
         "water": _part(Fw / cos_o, Mw / cos_o, H, math.cos(wall.omega)),
         "water_front": _part(Ff, Mf, H, 1.0),
     }
