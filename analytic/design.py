@@ -378,6 +378,8 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
         "water_front": _part(Ff, Mf, H, 1.0),
     }
     notes = []
+    if method == "coulomb" and passive and abs(wall.delta_deg) > min(x.phi_deg for x in ground.layers) / 2:
+        notes.append("planar-wedge Kp is unconservative for rough walls (delta > phi/2)")
     if crack > 0:
         notes.append(f"tension crack to {crack:.3f} m: the negative active stress above it is not counted")
     if ground.water_depth is not None and ground.water_depth >= H:

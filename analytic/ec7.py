@@ -104,6 +104,8 @@ def ec7_annex_c(soil: Soil, wall: Wall, passive: bool = False) -> Profile:
     return Profile(method="ec7-annex-c", z=z, sigma_h=sigma, tau=tau, thrust=thrust,
                    thrust_h=thrust * horiz, height=height, K=K, Kh=K * horiz, H=H,
                    omega_deg=wall.omega_deg, source=SOURCE,
-                   notes="normal components from the Annex; linear distribution",
+                   notes="normal components from the Annex; linear distribution"
+                   + ("; passive = Lancellotta (2002) lower bound for this vertical wall and level fill"
+                      if passive and wall.omega_deg == 0 and wall.beta_deg == 0 else ""),
                    extra={"passive": passive, "K_n": co.K_n, "K_q": co.K_q, "K_c": co.K_c,
                           "K_gamma": co.K_gamma, "thrust_q": N_q / math.cos(direction)})

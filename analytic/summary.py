@@ -9,7 +9,7 @@ from .arching import handy, khosravi, paik_salgado
 from .classical import coulomb, jaky, janssen, rankine
 from .design import METHODS as DESIGN_METHODS, Ground, earth_pressure
 from .ec7 import ec7_annex_c
-from .errors import NotApplicable
+from .errors import InvalidParameter, NotApplicable
 from .inputs import Soil, Wall
 from .logspiral import log_spiral
 from .profile import Profile
@@ -41,6 +41,10 @@ def theory_table(soil: Soil, wall: Wall, *, kh: float = 0.0, kv: float = 0.0,
     Coulomb with cohesion.
     """
     if _is_design_case(soil, ground, line_loads, strip_loads):
+        if kh or kv:
+            # the design methods are static: refuse rather than drop the inertia silently
+            raise InvalidParameter("kh" if kh else "kv", kh or kv, "0 with cohesion, water, layers or line/strip loads",
+                                   "pseudo-static thrust is given for dry cohesionless fill only")
         return _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion_ratio)
     B = wall.height if width is None else width
     active_only = "active/at-rest theory (drop --passive)"

@@ -102,7 +102,7 @@ def test_design_plot_writes_png(tmp_path, capsys):
     (["--c", "-5"], "c"), (["--water-depth", "-1"], "water-depth"), (["--gamma-sat", "5"], "gamma-sat"),
     (["--line-load", "20"], "line-load"), (["--line-load", "20,-1"], "line-load x"),
     (["--strip-load", "20,3,1"], "strip-load x2"), (["--layers", "/nonexistent/l.toml"], "layers"),
-    (["--adhesion-ratio", "2"], "adhesion-ratio"),
+    (["--adhesion-ratio", "2"], "adhesion-ratio"), (["--c", "5", "--kh", "0.1"], "kh"),
 ])
 def test_bad_design_input_one_line_exit_2(capsys, args, name):
     code, out, err = run_main(capsys, "theory", *args)
