@@ -64,9 +64,11 @@ def test_annex_c_smooth_level_vertical_is_rankine(phi):
 @given(st.floats(15.0, 45.0), st.floats(0.0, 1.0))
 def test_annex_c_passive_equals_lancellotta(phi, frac):
     """Theory: for a vertical wall and level ground Annex C.2 and Lancellotta's (2002)
-    closed form are the same stress-field solution (normal components)."""
+    closed form are the same stress-field solution (normal components). Tolerance 1e-7:
+    as delta -> phi both take a square root of a vanishing difference (sqrt(sin^2 phi -
+    sin^2 delta), acos near 1), which turns round-off of 1e-16 into ~1e-8."""
     assert math.isclose(annex_c_coefficients(phi, frac * phi, passive=True).K_n,
-                        lancellotta_kp(phi, frac * phi), rel_tol=1e-10)
+                        lancellotta_kp(phi, frac * phi), rel_tol=1e-7)
 
 
 @settings(max_examples=30)
