@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import quad
 
-from .classical import coulomb_coefficient, rankine_coefficient
+from .classical import _surcharge_factor, coulomb_coefficient, rankine_coefficient
 from .ec7 import annex_c_coefficients
 from .errors import InvalidParameter, NotApplicable
 from .inputs import Wall, require_number, require_vertical_level
@@ -333,7 +333,8 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
     # a soil force at `direction` to the face normal: horizontal / normal component
     horiz = math.cos(direction + wall.omega) / math.cos(direction)
     cos_o = math.cos(wall.omega)
-    q = wall.surcharge
+    # Coulomb's wedge carries q over its horizontal extent: the same factor as classical.py
+    q = wall.surcharge * (_surcharge_factor(wall) if method == "coulomb" else 1.0)
 
     # grid: each segment between break points sampled densely, break points repeated
     brk = ground.breaks(H)
