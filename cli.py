@@ -56,6 +56,23 @@ def _add_theory(sub):
                    help="backfill width B for Janssen's slot [m] (default: H)")
     p.add_argument("--ps-exponent", choices=["iii", "i"], default="iii",
                    help="Paik-Salgado profile exponent form (see analytic/arching.py)")
+    p.add_argument("--c", type=_number("c", 0, None, lo_open=False, unit="kPa"), default=0.0,
+                   help="effective cohesion [kPa] (0): Rankine-Bell, Coulomb and EC7 with c")
+    p.add_argument("--adhesion-ratio", type=_number("adhesion-ratio", 0, 1, lo_open=False, hi_open=False),
+                   default=0.0, help="wall adhesion a/c for Coulomb with cohesion (0)")
+    p.add_argument("--water-depth", type=_number("water-depth", 0, None, lo_open=False, unit="m"), default=None,
+                   help="water table behind the wall, depth below the wall top [m] (dry)")
+    p.add_argument("--water-depth-front", type=_number("water-depth-front", 0, None, lo_open=False, unit="m"),
+                   default=None, help="water level in front of the wall, depth below the wall top [m] (none)")
+    p.add_argument("--gamma-sat", type=_number("gamma-sat", 9.81, None, lo_open=False, unit="kN/m^3"),
+                   default=None, help="saturated unit weight below the water table [kN/m^3] (gamma)")
+    p.add_argument("--layers", metavar="FILE.toml",
+                   help="layered backfill: [[layer]] tables with thickness [m], phi [deg], gamma [kN/m^3], "
+                        "c [kPa], gamma_sat [kN/m^3], top down, adding up to H (replaces --phi/--gamma/--c)")
+    p.add_argument("--line-load", action="append", default=[], metavar="Q,X",
+                   help="line load Q [kN/m] at X [m] behind the wall (repeatable)")
+    p.add_argument("--strip-load", action="append", default=[], metavar="Q,X1,X2",
+                   help="strip load Q [kPa] from X1 to X2 [m] behind the wall (repeatable)")
     p.add_argument("--passive", action="store_true", help="passive instead of active")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", help="draw sigma_h(z) of every method")
@@ -67,19 +84,40 @@ def _cmd_theory(args) -> int:
     from analytic.summary import theory_table
     from studies.report import theory_json, theory_text
 
+    from analytic.design import theory_loads, theory_ground
+
     soil = Soil(args.phi, args.gamma * 1e3)
     wall = Wall(args.H, args.delta, args.omega, args.beta, args.q * 1e3)
+    layers = _read_toml("layers", args.layers) if args.layers else None
+    ground = theory_ground(soil, wall.height, c_kPa=args.c, gamma_sat_kN=args.gamma_sat,
+                           water_depth=args.water_depth, water_depth_front=args.water_depth_front,
+                           layers_table=layers)
+    if args.layers:
+        top = ground.layers[0]       # the table's title and inputs show the top layer
+        soil = Soil(top.phi_deg, top.unit_weight)
+    loads = theory_loads(args.line_load, args.strip_load)
     rows = theory_table(soil, wall, kh=args.kh, kv=args.kv, passive=args.passive,
-                        width=args.width, ps_exponent=args.ps_exponent)
+                        width=args.width, ps_exponent=args.ps_exponent, ground=ground,
+                        adhesion_ratio=args.adhesion_ratio, **loads)
     if args.json:
-        print(json.dumps(theory_json(soil, wall, rows, args.passive), indent=2))
+        print(json.dumps(theory_json(soil, wall, rows, args.passive, ground=ground, **loads), indent=2))
     else:
-        _console().print(theory_text(soil, wall, rows, args.passive))
+        _console().print(theory_text(soil, wall, rows, args.passive, ground=ground, **loads))
     if args.plot:
         from viz.figures import plot_theory_profiles
         plot_theory_profiles(rows, wall, args.plot)
         print(f"wrote {args.plot}", file=sys.stderr)
     return 0
+
+
+def _read_toml(name: str, path: str) -> dict:
+    """A TOML file as a dict, or InvalidParameter naming the option (one line, exit 2)."""
+    import tomllib
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise InvalidParameter(name, path, "a readable TOML file", type(err).__name__) from None
 
 
 def _add_dsm(sub):

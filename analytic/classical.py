@@ -48,11 +48,12 @@ def _linear_profile(method: str, soil: Soil, wall: Wall, K: float, direction: fl
     moment = K * (0.5 * g * H**2 * H / 3 + qe * H * H / 2)
     height = moment / thrust if thrust > 0 else H / 3
     horiz = math.cos(direction + wall.omega)
-    unit = 0.5 * g * H**2
+    # K stays the soil coefficient with a surcharge; the surcharge's thrust is reported apart
+    extra = {**(extra or {}), "thrust_q": K * qe * H}
     return Profile(method=method, z=z, sigma_h=sigma, tau=tau, thrust=thrust,
-                   thrust_h=thrust * horiz, height=height, K=thrust / unit,
-                   Kh=thrust * horiz / unit, H=H, omega_deg=wall.omega_deg,
-                   source=source, status=status, notes=notes, extra=extra or {})
+                   thrust_h=thrust * horiz, height=height, K=K,
+                   Kh=K * horiz, H=H, omega_deg=wall.omega_deg,
+                   source=source, status=status, notes=notes, extra=extra)
 
 
 # --------------------------------------------------------------------------- Rankine
@@ -169,8 +170,10 @@ def trial_wedge(soil: Soil, wall: Wall, passive: bool = False, kh: float = 0.0,
         rx, ry = -np.sin(rho - sign * phi), np.cos(rho - sign * phi)
         return (-ex * ry + ey * rx) / (px * ry - py * rx)
 
-    # the slip plane must cut the surface (rho > beta) and stay in front of the face
-    lo = (b if passive else max(phi, b)) + 1e-6
+    # the slip plane must cut the surface (rho > beta) and stay in front of the face; an
+    # active wedge under inertia can slip below phi, down to phi - psi (psi the inertia angle)
+    psi = math.atan2(kh, 1.0 - kv)
+    lo = (b if passive else max(phi - psi, b)) + 1e-6
     hi = math.pi / 2 + om - 1e-6
     grid = np.linspace(lo, hi, 2001)
     vals = thrust(grid)

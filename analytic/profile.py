@@ -34,8 +34,10 @@ class Profile:
     thrust:     resultant per metre of wall along the method's direction [N/m]
     thrust_h:   horizontal component of the resultant [N/m]
     height:     height of the resultant above the base [m]
-    K:          2 thrust / (gamma H^2) (the method's own coefficient)
-    Kh:         2 thrust_h / (gamma H^2)
+    K:          2 thrust / (gamma H^2) (the method's own coefficient); for the linear
+                methods (Rankine, Coulomb, Jaky, EC7, log-spiral) with a surcharge, still the
+                soil coefficient, the surcharge's thrust being ``extra['thrust_q']``
+    Kh:         horizontal part of K
     H:          wall height [m]
     omega_deg:  back-face inclination from vertical [deg]; stresses act per unit face
                 length, and a face element spans dz / cos(omega)
@@ -88,6 +90,8 @@ class Profile:
             "resultant_height_over_H": self.height_over_H,
             "source": self.source,
             "status": self.status,
+            **({"thrust_q_kN_per_m": self.extra["thrust_q"] / 1e3} if self.extra.get("thrust_q") else {}),
+            **({"parts": self.extra["parts"]} if "parts" in self.extra else {}),
             **({"notes": self.notes} if self.notes else {}),
         }
 

@@ -18,11 +18,29 @@ SIGN_CONVENTION = ("sigma_h: normal stress on the wall face, compression positiv
                    "h/H: height of the resultant above the base")
 
 
-def theory_json(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool) -> dict:
+def _design_inputs(ground, line_loads, strip_loads) -> dict:
+    """The c-phi / water / layer / load inputs in engineering units (empty when unused)."""
+    out = {}
+    if ground is not None:
+        out["layers"] = [{"thickness_m": x.thickness, "phi_deg": x.phi_deg, "gamma_kN_per_m3": x.unit_weight / 1e3,
+                          "c_kPa": x.cohesion / 1e3, "gamma_sat_kN_per_m3": x.gamma_sat / 1e3}
+                         for x in ground.layers]
+        out["water_depth_m"] = ground.water_depth
+        out["water_depth_front_m"] = ground.water_depth_front
+    if line_loads:
+        out["line_loads"] = [{"Q_kN_per_m": ld.Q / 1e3, "x_m": ld.x} for ld in line_loads]
+    if strip_loads:
+        out["strip_loads"] = [{"q_kPa": ld.q / 1e3, "x1_m": ld.x1, "x2_m": ld.x2} for ld in strip_loads]
+    return out
+
+
+def theory_json(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool, *, ground=None,
+                line_loads=(), strip_loads=()) -> dict:
     return {
         "inputs": {"phi_deg": soil.phi_deg, "gamma_kN_per_m3": soil.unit_weight / 1e3,
                    "H_m": wall.height, "delta_deg": wall.delta_deg, "omega_deg": wall.omega_deg,
-                   "beta_deg": wall.beta_deg, "q_kPa": wall.surcharge / 1e3, "passive": passive},
+                   "beta_deg": wall.beta_deg, "q_kPa": wall.surcharge / 1e3, "passive": passive,
+                   **_design_inputs(ground, line_loads, strip_loads)},
         "sign_convention": SIGN_CONVENTION,
         "methods": [r.profile.as_dict() if r.profile is not None
                     else {"name": r.name, "K": None, "Kh": None, "thrust_kN_per_m": None,
@@ -31,32 +49,69 @@ def theory_json(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool) ->
     }
 
 
-def theory_text(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool):
+def _design_title(ground, line_loads, strip_loads) -> str:
+    """Title suffix for a c-phi, wet, layered or loaded backfill."""
+    bits = []
+    if ground is not None:
+        if len(ground.layers) > 1:
+            bits.append(f"{len(ground.layers)} layers")
+        elif ground.layers[0].cohesion:
+            bits.append(f"c = {ground.layers[0].cohesion / 1e3:g} kPa")
+        if ground.water_depth is not None:
+            bits.append(f"water at {ground.water_depth:g} m")
+        if ground.water_depth_front is not None:
+            bits.append(f"front water at {ground.water_depth_front:g} m")
+    bits += [f"line load {ld.Q / 1e3:g} kN/m at {ld.x:g} m" for ld in line_loads]
+    bits += [f"strip load {ld.q / 1e3:g} kPa over {ld.x1:g}-{ld.x2:g} m" for ld in strip_loads]
+    return "".join(", " + b for b in bits)
+
+
+def theory_text(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool, *, ground=None,
+                line_loads=(), strip_loads=()):
     title = (f"{'Passive' if passive else 'Active / at-rest'} earth pressure: phi = {soil.phi_deg:g} deg, "
              f"delta = {wall.delta_deg:g} deg, H = {wall.height:g} m, gamma = {soil.unit_weight / 1e3:g} kN/m3"
              + (f", beta = {wall.beta_deg:g} deg" if wall.beta_deg else "")
              + (f", omega = {wall.omega_deg:g} deg" if wall.omega_deg else "")
-             + (f", q = {wall.surcharge / 1e3:g} kPa" if wall.surcharge else ""))
+             + (f", q = {wall.surcharge / 1e3:g} kPa" if wall.surcharge else "")
+             + _design_title(ground, line_loads, strip_loads))
+    split = any(r.profile is not None and ("parts" in r.profile.extra or r.profile.extra.get("thrust_q"))
+                for r in rows)
     t = Table(title=title, title_justify="left")
-    for col in ("method", "K", "Kh", "thrust kN/m", "h/H", "status"):
+    cols = ("method", "K", "Kh", "thrust kN/m", "h/H") + (
+        ("Ph soil", "Ph q", "Ph w") if split else ()) + ("status",)
+    for col in cols:
         t.add_column(col, justify="left" if col in ("method", "status") else "right", no_wrap=True)
     sources = Text()
     for r in rows:
         p = r.profile
         if p is None:
-            t.add_row(r.name, "n/a", "", "", "", "not applicable")
+            t.add_row(r.name, "n/a", "", "", "", *(("", "", "") if split else ()), "not applicable")
             sources.append(f"{r.name}: n/a: {r.reason}\n", style="dim")
             continue
         status = "verified" if p.status == "verified" else "[yellow]reconstruction[/yellow]"
         t.add_row(p.method, f"{p.K:.4f}", f"{p.Kh:.4f}", f"{p.thrust / 1e3:.2f}",
-                  f"{p.height_over_H:.3f}", status)
+                  f"{p.height_over_H:.3f}", *(_split_cells(p) if split else ()), status)
         sources.append(f"{p.method}: {p.source}" + (f" [{p.notes}]" if p.notes else "") + "\n",
                        style="dim")
     foot = Text(SIGN_CONVENTION, style="dim")
+    if split:
+        foot.append("\nPh soil / Ph q / Ph w: horizontal thrust [kN/m] of the soil, of the surcharges "
+                    "(uniform q, line and strip loads) and of the water; K stays the soil coefficient", style="dim")
     if any(r.profile is not None and r.profile.status != "verified" for r in rows):
         foot.append("\nreconstruction = the original paper's profile equation could not be read; "
                     "see analytic/arching.py for what is and is not verified.", style="dim")
     return Group(t, sources, foot)
+
+
+def _split_cells(p) -> tuple[str, str, str]:
+    """Horizontal soil, surcharge and water thrusts [kN/m] of one row."""
+    parts = p.extra.get("parts")
+    if parts:
+        return tuple(f"{parts[k]['horizontal_kN_per_m']:.2f}" for k in ("soil", "surcharge", "water"))
+    q = p.extra.get("thrust_q", 0.0) * (p.thrust_h / p.thrust if p.thrust else 0.0)
+    if not p.extra.get("thrust_q"):
+        return "", "", ""
+    return f"{(p.thrust_h - q) / 1e3:.2f}", f"{q / 1e3:.2f}", "0.00"
 
 
 def dsm_json(mode_code: str, result, preset) -> dict:

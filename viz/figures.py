@@ -15,7 +15,7 @@ import numpy as np  # noqa: E402
 _STYLE = {"rankine": ("-", "C0"), "coulomb": ("--", "C1"), "jaky": (":", "C2"),
           "mononobe-okabe": ("-.", "C3"), "seed-whitman": ("-.", "C4"), "handy": ("-", "C5"),
           "paik-salgado": ("-", "C6"), "khosravi": ("--", "C7"), "janssen": (":", "C8"),
-          "dsm": ("-", "k")}
+          "ec7-annex-c": ("--", "C9"), "log-spiral": ("-", "olive"), "dsm": ("-", "k")}
 
 
 def _finish(fig, path) -> Path:
@@ -31,10 +31,12 @@ def plot_theory_profiles(rows, wall, path, *, dem=None, title: str | None = None
     """sigma_h(z) of every applicable method (kPa vs depth), optionally with DEM points
     ``dem = (z_m, sigma_Pa, label)``. Reconstructed profiles are marked in the legend."""
     fig, ax = plt.subplots(figsize=(6, 6.5))
-    for r in rows:
-        p = getattr(r, "profile", r)
-        if p is None:
-            continue
+    profiles = [getattr(r, "profile", r) for r in rows]
+    profiles = [p for p in profiles if p is not None]
+    shaded = next((p for p in profiles if "design" in p.extra or p.extra.get("thrust_q")), None)
+    if shaded is not None:
+        _shade_parts(ax, shaded)
+    for p in profiles:
         ls, c = _STYLE.get(p.method, ("-", None))
         label = p.method + (" (reconstruction)" if p.status != "verified" else "")
         ax.plot(p.sigma_h / 1e3, p.z, ls, color=c, label=label)
@@ -49,6 +51,27 @@ def plot_theory_profiles(rows, wall, path, *, dem=None, title: str | None = None
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return _finish(fig, path)
+
+
+def _shade_parts(ax, p) -> None:
+    """Shade one method's surcharge and water parts apart from its soil part (kPa). A
+    design profile carries its parts; a linear method's uniform-surcharge part is its
+    constant stress at the top (the weight part is zero there)."""
+    d = p.extra.get("design")
+    if d is not None:
+        soil = d.sigma_soil / 1e3
+        with_q = soil + (d.sigma_q + d.sigma_loads) / 1e3
+        total = with_q + d.u / 1e3
+        z = d.z
+    else:
+        soil = (p.sigma_h - p.sigma_h[0]) / 1e3
+        with_q = total = p.sigma_h / 1e3
+        z = p.z
+    ax.fill_betweenx(z, 0, soil, color="0.85", label=f"soil part ({p.method})")
+    if np.any(with_q > soil):
+        ax.fill_betweenx(z, soil, with_q, color="gold", alpha=0.5, label=f"surcharge part ({p.method})")
+    if np.any(total > with_q):
+        ax.fill_betweenx(z, with_q, total, color="C0", alpha=0.25, label=f"water part ({p.method})")
 
 
 # ----------------------------------------------------------------------------- dem2d
