@@ -239,18 +239,25 @@ def _add_study_command(sub, study, cmd) -> None:
 
 
 def _cmd_study(cmd, args) -> int:
+    from studies.runner import finished_result
+
     flags = {o.key: (o.to_case(getattr(args, o.dest)) if o.to_case else getattr(args, o.dest))
              for o in cmd.options if o.key is not None and hasattr(args, o.dest)}
     if hasattr(args, "seed"):
         flags[cmd.seed_key] = args.seed
-    case = cmd.resolve(config=args.config, flags=flags, sets=args.set, resume=getattr(args, "resume", None))
+    resume = getattr(args, "resume", None)
+    case = cmd.resolve(config=args.config, flags=flags, sets=args.set, resume=resume, study=args.study)
+    if resume is not None and finished_result(resume) is not None:
+        print(f"{resume} holds a finished run (result.json): nothing to resume", file=sys.stderr)
+        return 0
     if cmd.busy_note:
         _note_if_busy()
     opts = cmd.run_options(**{o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None},
                            out=args.out, quiet=args.quiet)
     result, where = cmd.run(case, opts)
     if args.json:
-        print(json.dumps(result, indent=2, default=str))
+        from studies.runfolder import to_plain
+        print(json.dumps(to_plain(result), indent=2, default=str))     # NaN -> null: JSON has no NaN
     else:
         shown = cmd.text(result)
         if shown is not None:
@@ -266,6 +273,27 @@ def _note_if_busy() -> None:
     note = busy_machine_note()
     if note:
         sys.stderr.write(note + "\n")
+
+
+def _add_keys(sub) -> None:
+    from studies import NAMES
+
+    p = sub.add_parser("keys", help="the settable keys of a study's case (for --set and --config)",
+                       description="Every key of the case with its default and meaning, as --set KEY=VALUE "
+                                   "and a --config TOML file take them (tables for dotted keys).")
+    p.add_argument("study", choices=list(NAMES))
+    p.add_argument("--verb", default=None, help="the command whose case to list (the study's first)")
+    p.set_defaults(func=_cmd_keys)
+
+
+def _cmd_keys(args) -> int:
+    from studies import get
+    from studies.config import describe_keys
+
+    cmd = get(args.study).command(args.verb)
+    for key, default, note in describe_keys(cmd.default_case()):
+        print(f"{key:34s} {str(default):>14s}  {note}")
+    return 0
 
 
 def _add_studies(sub) -> None:
@@ -339,6 +367,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_theory(sub)
     _add_dsm(sub)
     _add_studies(sub)
+    _add_keys(sub)
     _add_bench(sub)
     return parser
 
@@ -351,13 +380,31 @@ def _version() -> str:
         return "unknown"
 
 
+EXIT_INTERRUPTED = 130        # 128 + SIGINT, as a shell reports it
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
     try:
+        args = build_parser().parse_args(argv)
         return args.func(args)
     except InvalidParameter as err:
         sys.stderr.write(f"wallsim: error: {err}\n")
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        from studies.runner import interrupted_line
+        sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv))}\n")
+        return EXIT_INTERRUPTED
+
+
+def _resume_command(argv: list[str] | None) -> str | None:
+    """'wallsim compare nadukuru' when the interrupted command takes --resume, else None."""
+    words = list(sys.argv[1:] if argv is None else argv)[:2]
+    if len(words) == 2 and words[0] in VERBS:
+        from studies import NAMES, get
+        commands = [c for c in get(words[1]).commands if c.verb == words[0]] if words[1] in NAMES else []
+        if commands and any(o.flag == "--resume" for o in commands[0].options):
+            return "wallsim " + " ".join(words)
+    return None
 
 
 def entry() -> None:

@@ -9,6 +9,8 @@ into the run folder. Unknown keys and values of the wrong type raise
 from __future__ import annotations
 
 import dataclasses
+import math
+import re
 import tomllib
 import typing
 from pathlib import Path
@@ -43,13 +45,16 @@ def _coerce(key: str, text, typ):
             if isinstance(text, float) and not text.is_integer():
                 raise ValueError
             return int(float(text)) if not isinstance(text, int) else text
-        except (TypeError, ValueError):
-            raise InvalidParameter(key, text, "an integer") from None
+        except (TypeError, ValueError, OverflowError):        # inf, nan, 1e400
+            raise InvalidParameter(key, text, "a whole number") from None
     if typ is float:
         try:
-            return float(text)
+            value = float(text)
         except (TypeError, ValueError):
-            raise InvalidParameter(key, text, "a number", "not a number") from None
+            raise InvalidParameter(key, text, "a finite number", "not a number") from None
+        if not math.isfinite(value):
+            raise InvalidParameter(key, text, "a finite number")
+        return value
     if typ is str:
         return str(text)
     if typing.get_origin(typ) is typing.Literal:
@@ -103,8 +108,7 @@ def set_value(case, key: str, raw):
     """Return a copy of ``case`` with ``key`` set to ``raw`` (coerced to the field type)."""
     hit = _resolve(case, key, raw)
     if hit is None:
-        raise InvalidParameter(key, raw, "a key of this case: " + ", ".join(flat_keys(case)),
-                               "unknown key")
+        raise InvalidParameter(key, raw, "a key of this case", "unknown key; `wallsim keys <study>` lists them")
     path, name = hit
 
     def rebuild(node, remaining):
@@ -136,8 +140,10 @@ def apply_toml(case, path: str | Path):
     """Apply every key of a TOML file (tables map to nested records)."""
     try:
         data = tomllib.loads(Path(path).read_text())
-    except FileNotFoundError:
+    except (FileNotFoundError, IsADirectoryError, NotADirectoryError):
         raise InvalidParameter("--config", str(path), "an existing TOML file") from None
+    except (PermissionError, UnicodeDecodeError) as err:
+        raise InvalidParameter("--config", str(path), "a readable TOML text file", type(err).__name__) from None
     except tomllib.TOMLDecodeError as err:
         raise InvalidParameter("--config", str(path), "valid TOML", str(err).splitlines()[0]) from None
 
@@ -171,3 +177,29 @@ def resolve_case(case, *, config: str | Path | None = None, flags: dict | None =
     for key, value in (flags or {}).items():
         case = set_value(case, key, value)
     return revalidated(apply_sets(case, sets))
+
+
+def _field_notes(cls) -> dict[str, str]:
+    """First line of each field's description in a record's docstring, where the
+    docstring lists fields as ``name: text`` or ``name, other: text``."""
+    notes = {}
+    for line in (cls.__doc__ or "").splitlines():
+        m = re.match(r"^\s{0,8}([A-Za-z_][\w]*(?:\s*,\s*[A-Za-z_][\w]*)*)\s*:\s+(\S.*)$", line)
+        if m:
+            for name in m.group(1).split(","):
+                notes.setdefault(name.strip(), m.group(2).strip())
+    return notes
+
+
+def describe_keys(case, prefix: str = "") -> list[tuple[str, object, str]]:
+    """(key, default value, what it is) for every settable key of a case, dotted for
+    nested records, the description taken from the record's docstring."""
+    rows = []
+    notes = _field_notes(type(case))
+    for f in dataclasses.fields(case):
+        value = getattr(case, f.name)
+        if dataclasses.is_dataclass(value):
+            rows += describe_keys(value, prefix + f.name + ".")
+        else:
+            rows.append((prefix + f.name, value, notes.get(f.name, "")))
+    return rows

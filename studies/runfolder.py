@@ -1,4 +1,6 @@
 """Run folders: where every DEM run leaves its resolved config, provenance, data and plots.
+Every file is written whole or not at all (``store.atomic_write``): an interrupted run
+leaves no half-written table.
 
 Layout (one folder per run)::
 
@@ -15,6 +17,7 @@ Layout (one folder per run)::
 from __future__ import annotations
 
 import csv
+import io
 import dataclasses
 import json
 import math
@@ -28,6 +31,8 @@ from pathlib import Path
 
 import numpy as np
 import tomli_w
+
+from .store import atomic_write
 
 
 def package_versions() -> dict[str, str]:
@@ -151,9 +156,7 @@ class RunFolder:
         return p
 
     def write_config(self, config) -> Path:
-        p = self.file("config.toml")
-        p.write_text(tomli_w.dumps(_toml_ready(to_plain(config))))
-        return p
+        return atomic_write(self.file("config.toml"), tomli_w.dumps(_toml_ready(to_plain(config))).encode())
 
     def write_manifest(self, **extra) -> Path:
         """Provenance: package versions, git revision, host, seed, wall time so far."""
@@ -176,19 +179,17 @@ class RunFolder:
         return self.write_json("manifest.json", man)
 
     def write_json(self, name: str, obj) -> Path:
-        p = self.file(name)
-        p.write_text(json.dumps(to_plain(obj), indent=2) + "\n")
-        return p
+        """JSON with NaN and inf as null (JSON has neither)."""
+        return atomic_write(self.file(name), (json.dumps(to_plain(obj), indent=2) + "\n").encode())
 
     def write_csv(self, name: str, header: list[str], rows) -> Path:
         """Tidy CSV; put units in the header names (e.g. ``sigma_h_kPa``)."""
-        p = self.file(name)
-        with p.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            for row in rows:
-                w.writerow([f"{v:.9g}" if isinstance(v, (float, np.floating)) else v for v in row])
-        return p
+        buf = io.StringIO(newline="")
+        w = csv.writer(buf)
+        w.writerow(header)
+        for row in rows:
+            w.writerow([f"{v:.9g}" if isinstance(v, (float, np.floating)) else v for v in row])
+        return atomic_write(self.file(name), buf.getvalue().encode())
 
     @property
     def wall_time(self) -> float:

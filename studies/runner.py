@@ -9,15 +9,21 @@ from pathlib import Path
 
 from .runfolder import RunFolder
 
+#: the run folder of the run in progress in this process (what an interrupt reports)
+current_folder: Path | None = None
+
 
 def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | None = None,
                     name: str | None = None) -> RunFolder:
     """A new run folder with the resolved case in config.toml, or, with ``resume``, the
     interrupted run's own folder (its config.toml is the case, kept as it was)."""
+    global current_folder
     if resume is not None:
-        return RunFolder.existing(resume, seed=getattr(case, "seed", -1))
-    folder = RunFolder(study, getattr(case, "seed", -1), root=root, name=name)
-    folder.write_config(case)
+        folder = RunFolder.existing(resume, seed=getattr(case, "seed", -1))
+    else:
+        folder = RunFolder(study, getattr(case, "seed", -1), root=root, name=name)
+        folder.write_config(case)
+    current_folder = folder.path
     return folder
 
 
@@ -60,3 +66,21 @@ class _Lap:
 
     def __exit__(self, *exc):
         self.watch.seconds[self.stage] = time.perf_counter() - self.t
+
+
+def finished_result(run_dir: str | Path) -> dict | None:
+    """The result of a run folder that holds a finished run (result.json), else None."""
+    import json
+    p = Path(run_dir) / "result.json"
+    return json.loads(p.read_text()) if p.is_file() else None
+
+
+def interrupted_line(resume_command: str | None) -> str:
+    """One line for an interrupted run: where its finished files are and, when the
+    command can resume, how."""
+    stamp = time.strftime("%H:%M:%S")
+    if current_folder is None:
+        return f"interrupted at {stamp}; nothing was written"
+    if resume_command:
+        return f"interrupted at {stamp}; resume with: {resume_command} --resume {current_folder}"
+    return f"interrupted at {stamp}; what finished is in {current_folder} (this command does not resume)"

@@ -16,12 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .runfolder import to_plain
 
 
 def content_key(obj, length: int = 16) -> str:
     """Hex SHA-256 of ``obj`` as sorted JSON (dataclasses and numpy values made plain),
     cut to ``length`` characters."""
+    from .runfolder import to_plain
     blob = json.dumps(to_plain(obj), sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:length]
 
@@ -86,4 +86,5 @@ class Store:
         return json.loads(p.read_text()) if p.exists() else None
 
     def save_json(self, key: str, obj) -> Path:
+        from .runfolder import to_plain
         return atomic_write(self.path(key, ".json"), (json.dumps(to_plain(obj), indent=2) + "\n").encode())

@@ -77,16 +77,15 @@ class Command:
     busy_note: bool = False
 
     def resolve(self, *, config: str | None = None, flags: dict[str, Any] | None = None,
-                sets: list[str] | None = None, resume: str | None = None):
+                sets: list[str] | None = None, resume: str | None = None, study: str | None = None):
         """The case to run: defaults < config file < flags (key -> value) < ``--set``;
-        or, with ``resume`` (a run folder), exactly the case that run started with."""
+        or, with ``resume`` (a run folder of ``study``), exactly the case that run
+        started with."""
         if resume is not None:
             if config or flags or sets:
                 raise InvalidParameter("--resume", resume, "a run folder alone (no --config, --set or case flags)",
                                        "a resumed run keeps the settings it started with")
-            config = str(Path(resume) / "config.toml")
-            if not resume or not Path(config).is_file():
-                raise InvalidParameter("--resume", resume, "a run folder with a config.toml")
+            config = _resume_config(resume, study)
         return resolve_case(self.default_case(), config=config, flags=flags or {}, sets=sets or [])
 
     def run_options(self, **given) -> SimpleNamespace:
@@ -98,6 +97,18 @@ class Command:
             raise InvalidParameter(unknown[0], given[unknown[0]], ", ".join(sorted(opts)), "not an option of "
                                    f"{self.verb}")
         return SimpleNamespace(**(opts | given))
+
+
+def _resume_config(resume: str, study: str | None) -> str:
+    """The config.toml of the run folder ``resume``, which must be a run of ``study``."""
+    folder = Path(resume)
+    config = folder / "config.toml"
+    if not resume or not config.is_file():
+        raise InvalidParameter("--resume", resume, "a run folder with a config.toml")
+    if study is not None and folder.resolve().parent.name != study:
+        raise InvalidParameter("--resume", resume, f"a run folder of {study} (runs/{study}/...)",
+                               f"it is a run of {folder.resolve().parent.name}")
+    return str(config)
 
 
 @dataclass(frozen=True)

@@ -4,6 +4,7 @@ committed ones the Khosravi study looks phi up in). The study record is ``STUDY`
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
 from ..options import kpa_to_pa, number, number_list
@@ -32,8 +33,18 @@ def _text(result: dict):
         t.add_row(f"{r['friction']:.3f}", f"{r['confining'] / 1e3:g}", f"{r['phi_peak_deg']:.2f}",
                   f"{r['eps_peak']:.4f}", f"{r['phi_cs_deg']:.2f}", f"{r['eps_cs']:.4f}",
                   f"{r['band_angle_deg']:.0f}", f"{1 - r['solid_fraction_0']:.3f}", str(r["n_grains"]))
-    return Group(t, f"calibrated friction for phi = {result['target_phi_deg']:g} deg: "
-                    f"{result['calibrated_friction']:.4f}")
+    return Group(t, _calibrated_line(result))
+
+
+def _calibrated_line(result: dict) -> str:
+    """The calibrated friction, or why there is none (phi of every test below or above
+    the target: interpolation needs two tests that bracket it)."""
+    mu, target = result["calibrated_friction"], result["target_phi_deg"]
+    if mu is not None and math.isfinite(mu):
+        return f"calibrated friction for phi = {target:g} deg: {mu:.4f}"
+    phis = [t["phi_cs_deg"] for t in result["tests"]]
+    return (f"no calibrated friction: the critical-state phi of the tests ({min(phis):.2f}-{max(phis):.2f} deg) "
+            f"does not bracket {target:g} deg; test frictions on both sides of it")
 
 
 CALIBRATE = Command(

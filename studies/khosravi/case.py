@@ -37,6 +37,11 @@ from dem2d.sim import Sim
 from dem2d.walls import PANEL_TYPE_BASE, panel_wall
 
 RHO_WATER = 1000.0  # kg/m^3
+#: the smallest fill that still has a reading: one 4-panel group (PS1) below the surface
+MIN_READING_PANELS = 4
+#: the coarsest grains: this many d50 across the fill height and the box width (the
+#: tiny box of the tests, H 0.1 m at scale 5, has 17)
+MIN_GRAINS_ACROSS = 8
 
 #: The Khosravi fill: 20 mm layers; grains deeper than 20 mm below the surface are held
 #: static while the next layers fall (at 4e-4 s a step), all are released for the last
@@ -116,6 +121,13 @@ class KhosraviCase:
             raise InvalidParameter("H", self.H, f"(0, {self.box_height:g}] m", "higher than the box")
         require_number("box_width", self.box_width, 0.0, None, unit="m")
         require_number("particles_scale", self.particles_scale, 0.0, None)
+        if self.H < MIN_READING_PANELS * self.box_height / self.n_panels:
+            raise InvalidParameter("H", self.H, f"[{MIN_READING_PANELS * self.box_height / self.n_panels:g}, "
+                                                f"{self.box_height:g}] m", "no 4-panel reading below the surface")
+        most = min(self.H, self.box_width) / (MIN_GRAINS_ACROSS * self.d50)
+        if self.particles_scale > most:
+            raise InvalidParameter("particles_scale", self.particles_scale, f"(0, {most:.3g}]",
+                                   f"grains of {MIN_GRAINS_ACROSS} x d50 x scale must fit across H and the box")
         require_number("friction", self.friction, 0.0, None, lo_open=False)
         require_number("wall_speed", self.wall_speed, 0.0, None, unit="m/s")
         require_number("dis_over_H_max", self.dis_over_H_max, 0.0, 0.1)
