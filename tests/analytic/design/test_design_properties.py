@@ -1,0 +1,138 @@
+"""Property tests required by issue 29, and block-wall joint checks against the
+dry-stone reference's closed forms (drystone-walls.md 5.4)."""
+
+import copy
+import math
+import tomllib
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from analytic.design import (Backfill, CantileverWall, DesignCase, Factors, Foundation, Loads, Method,
+                             Water, factors_of_safety, load_factors, verify)
+from analytic.design.blocks import BlockWall, critical_water_height
+from analytic.design.checks import base_pressure
+from analytic.design.sizing import solve
+
+F = load_factors()
+
+
+def wall_case(heel=3.0, beta=0.0, q=10.0, **method) -> DesignCase:
+    return DesignCase(CantileverWall(6.0, 0.4, 0.6, 1.0, heel, 0.6, 24.0, back_batter=0.1), Backfill(19, 32, 0, beta),
+                      Foundation(18, 30, 0, embedment=0.8), Loads(q), method=Method(**method))
+
+
+def unit_factors() -> Factors:
+    """The package's table with every partial factor set to 1 (Q_fav stays 0)."""
+    data = tomllib.loads(resources.files("analytic.design").joinpath("factors/ec7.toml").read_text())
+    data = copy.deepcopy(data)
+    for group in ("actions", "materials", "resistances"):
+        for s in data[group].values():
+            for k in s:
+                s[k] = 0.0 if k == "Q_fav" else 1.0
+    return Factors.from_dict(data)
+
+
+@pytest.mark.parametrize("beta", [0.0, 15.0])
+@pytest.mark.parametrize("fmt", ["DA1", "DA2", "DA3"])
+def test_unit_factors_give_reciprocal_factors_of_safety(fmt, beta):
+    """Every factor 1: utilisation = 1 / FS for sliding, overturning and bearing."""
+    case = wall_case(beta=beta, passive=True)
+    fs = factors_of_safety(verify(case, F, "fs"))
+    res = verify(case, unit_factors(), fmt)
+    for name in ("sliding", "overturning", "bearing"):
+        assert res.worst[name][1].utilisation == pytest.approx(1 / fs[name], rel=1e-12), name
+
+
+@pytest.mark.parametrize("fmt", ["DA1", "DA2", "DA3", "fs"])
+@pytest.mark.parametrize("single_source", [False, True])
+def test_longer_heel_never_raises_sliding_utilisation(fmt, single_source):
+    """Level fill: each extra 0.2 m of heel adds fill weight and leaves the thrust."""
+    u = [verify(wall_case(heel=h, single_source=single_source), F, fmt).worst["sliding"][1].utilisation
+         for h in np.arange(0.5, 5.01, 0.2)]
+    assert all(b <= a + 1e-12 for a, b in zip(u, u[1:])), u
+
+
+@pytest.mark.parametrize("e_over_B", [0.0, 0.05, -0.1, 1 / 6, 0.25, -0.3, 0.45])
+def test_base_pressure_integrates_to_V_and_e(e_over_B):
+    B, V = 3.0, 400.0
+    x, q = base_pressure(V, e_over_B * B, B, n=20001)
+    assert np.trapezoid(q, x) == pytest.approx(V, rel=1e-6)
+    x_R = np.trapezoid(q * x, x) / V
+    assert B / 2 - x_R == pytest.approx(e_over_B * B, abs=1e-5)
+    assert q.min() >= 0
+
+
+@pytest.mark.parametrize("fmt", ["DA1", "DA2", "fs"])
+def test_solve_heel_gives_unit_utilisation(fmt):
+    case, res = solve(wall_case(heel=1.0), F, fmt, "heel")
+    assert res.governing[2] == pytest.approx(1.0, abs=1e-3)
+    shorter = case.replace_wall(case.wall.with_dimension("heel", case.wall.heel - 0.01))
+    assert verify(shorter, F, fmt).governing[2] > 1.0
+
+
+def test_seismic_at_zero_acceleration_is_the_static_check():
+    """alpha = 0: the seismic format equals a static check with unit action and
+    resistance factors and the EN 1998-5 3.1(3) material factors (phi 1.25)."""
+    case = wall_case(q=0.0)
+    seis = verify(case, F, "seismic").worst
+    data = tomllib.loads(resources.files("analytic.design").joinpath("factors/ec7.toml").read_text())
+    data["combinations"]["FS"]["materials"] = "SEISMIC"
+    static = verify(case, Factors.from_dict(data), "fs").worst
+    for k in ("sliding", "overturning", "bearing"):
+        assert seis[k][1].utilisation == pytest.approx(static[k][1].utilisation, rel=1e-12)
+        assert seis[k][1].utilisation > verify(case, F, "fs").worst[k][1].utilisation
+
+
+def test_seismic_kh_kv_from_en1998_5():
+    """k_h = alpha S / r = 0.25 x 1.2 / 2 = 0.15; a_vg/a_g = 0.9 > 0.6 -> k_v = 0.075."""
+    from analytic.design import Seismic
+    s = Seismic(alpha=0.25, S=1.2, r=2.0)
+    assert s.kh == pytest.approx(0.15) and s.kv == pytest.approx(0.075)
+    assert Seismic(alpha=0.25, S=1.2, r=2.0, vertical_ratio=0.45).kv == pytest.approx(0.33 * 0.15)
+    case = DesignCase(wall_case().wall, Backfill(19, 32), Foundation(18, 30, embedment=0.8), seismic=s)
+    res = verify(case, F, "seismic")
+    assert {r.kv for r in res.combinations} == {0.075, -0.075}
+
+
+def test_block_wall_sliding_water_height_matches_closed_form():
+    """drystone-walls.md 5.4: with water, h_w,S = y_I + sqrt(2 W tan(alpha + phi_b) /
+    (gamma_w (1 - tan lambda2 tan(alpha + phi_b)))) at the base joint (y_I < 0: the heel
+    is lower). Section: h 3, b 1.2, lambda1 0, lambda2 5, alpha 5, phi_b 25, 22 kN/m3.
+    W by hand: trapezoid above y = 0 of widths 1.2 and 1.2 - 3 tan 5, plus the triangle
+    between y = 0 and the base plane with apex at the heel."""
+    t2, ta = math.tan(math.radians(5)), math.tan(math.radians(5))
+    b, h = 1.2, 3.0
+    x_h = b / (1 - ta * t2)
+    y_h = -x_h * ta
+    area = (b + b - h * t2) / 2 * h + 0.5 * b * abs(y_h)
+    W = 22 * area
+    T = math.tan(math.radians(30))
+    hw = y_h + math.sqrt(2 * W * T / (9.81 * (1 - t2 * T)))
+    wall = BlockWall(h, b, 0.0, 5.0, courses=10, joint_slope=5.0, joint_friction=25.0, unit_weight=22)
+    got, mech, z = critical_water_height(DesignCase(wall, None), F.combinations["FS"])
+    assert (mech, z) == ("sliding", 0.0)
+    assert got == pytest.approx(hw, abs=1e-5)
+
+
+def test_block_wall_toppling_water_height_by_hand():
+    """Rectangle h 2, b 0.6, no batter, alpha 0, phi_b 45 (sliding cannot govern): the
+    whole wall topples about the toe when gamma_w h_w^3 / 6 = W b / 2, W = 22 x 2 x 0.6;
+    the base joint governs (upper joints carry less water per unit of weight)."""
+    W = 22 * 2 * 0.6
+    hw = (6 * W * 0.3 / 9.81) ** (1 / 3)
+    wall = BlockWall(2.0, 0.6, 0.0, 0.0, courses=8, joint_friction=45.0, unit_weight=22)
+    got, mech, z = critical_water_height(DesignCase(wall, None), F.combinations["FS"])
+    assert (mech, z) == ("overturning", 0.0)
+    assert got == pytest.approx(hw, abs=1e-5)
+
+
+def test_block_wall_checks_every_joint_with_backfill():
+    wall = BlockWall(3.0, 1.5, 10.0, 0.0, courses=6, joint_slope=3.0, joint_friction=35.0, unit_weight=22)
+    res = verify(DesignCase(wall, Backfill(18, 34), Foundation(19, 32, embedment=0.3)), F, "DA1")
+    lead = res.combinations[0]
+    assert len(lead.joints) == 6
+    assert {"sliding", "overturning", "bearing", "eccentricity"} <= set(res.worst)
+    assert res.worst["sliding"][1].utilisation == max(
+        r["sliding"].utilisation for c in res.combinations for r in c.joints)

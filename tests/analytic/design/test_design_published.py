@@ -1,0 +1,186 @@
+"""Design checks against a published worked example and against hand calculations
+written out factor by factor (EN 1997-1 DA2 cantilever, gravity wall by factors of
+safety, Annex D bearing)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from analytic.design import (Backfill, CantileverWall, DesignCase, Foundation, GravityWall, Method,
+                             bearing_resistance, factors_of_safety, load_factors, verify)
+from analytic.design.actions import wall_forces
+from analytic.design.checks import base_pressure, overturning_moments, resultant
+
+F = load_factors()
+
+
+def das_case(passive: bool = False) -> DesignCase:
+    """Das, Principles of Foundation Engineering (7th ed., Example 8.1; the same wall is
+    Example 13.1/17.1 in later editions): stem 6 m (0.5 m at the top, 0.7 m at the base,
+    the batter on the front), base 4 m x 0.7 m, toe 0.7 m, heel 2.6 m, concrete
+    23.58 kN/m3; backfill gamma 18, phi 30, slope 10 deg; foundation gamma 19, phi 20,
+    c 40 kPa, delta_b = 2/3 phi, adhesion 2/3 c, D = 1.5 m; Rankine on the virtual back."""
+    wall = CantileverWall(6.7, 0.5, 0.7, 0.7, 2.6, 0.7, 23.58)
+    fnd = Foundation(19, 20, 40, base_adhesion=2 / 3 * 40, embedment=1.5)
+    return DesignCase(wall, Backfill(18, 30, 0, 10), fnd,
+                      method=Method(passive=passive, passive_mobilisation=1.0))
+
+
+def test_das_cantilever_actions_and_overturning():
+    """Das's printed values: Ka = 0.3495 (Rankine, alpha 10, phi 30), Pa = 161.2 kN/m,
+    sum V = 470.41 kN/m, sum M_R = 1128.82 kN m/m (Pv at the heel restores),
+    M_O = 378.78 kN m/m, FS overturning = 2.98 (to 0.5 %)."""
+    res = verify(das_case(), F, "fs")
+    c = res.combinations[0]
+    assert c.K == pytest.approx(0.3495, rel=5e-4)
+    forces = wall_forces(das_case(), F.combinations["FS"].materials)
+    thrust = [f for f in forces if f.name == "earth thrust"][0]
+    assert math.hypot(thrust.Fh, thrust.Fv) == pytest.approx(161.2, rel=5e-3)
+    assert c.V_d == pytest.approx(470.41, rel=5e-3)
+    M_O, M_R = overturning_moments(forces, [1.0] * len(forces))
+    assert M_R == pytest.approx(1128.82, rel=5e-3)
+    assert M_O == pytest.approx(378.78, rel=5e-3)
+    assert factors_of_safety(res)["overturning"] == pytest.approx(2.98, rel=5e-3)
+
+
+def test_das_cantilever_sliding_with_passive():
+    """Das: FS sliding = [V tan(k1 phi2) + B k2 c2 + Pp] / (Pa cos alpha) = 2.73 with
+    Pp = 0.5 Kp gamma2 D^2 + 2 c2 sqrt(Kp) D = 215 kN/m (Kp = 2.04, D = 1.5 m)."""
+    res = verify(das_case(passive=True), F, "fs")
+    assert factors_of_safety(res)["sliding"] == pytest.approx(2.73, rel=1e-2)
+
+
+def test_das_cantilever_base_pressure():
+    """Das: e = 0.406 m, q_toe = 189.2 kPa, q_heel = 45.99 kPa (trapezoid, e < B/6).
+    Das's bearing factor of safety (2.93, q_u = 555 kPa) is not reproduced: it uses
+    Meyerhof's depth factors and q_max in place of V/B' (our convention: EN 1997-1
+    Annex D, no depth factors, FS = q_ult B' / V)."""
+    c = verify(das_case(), F, "fs").combinations[0]
+    assert c.e == pytest.approx(0.406, abs=1e-3)
+    x, q = base_pressure(c.V_d, c.e, c.B)
+    assert q[0] == pytest.approx(189.2, rel=5e-3)
+    assert q[-1] == pytest.approx(45.99, rel=5e-3)
+
+
+def issue_wall() -> DesignCase:
+    """The wall of issue 29's TOML: H 6, stem 0.5, toe 1.2, heel 3.0, base 0.7, 24 kN/m3;
+    fill 18 / 32 deg level; foundation 18 / 30 deg, delta_b = 0.6667 phi, D = 0.7 m."""
+    return DesignCase(CantileverWall(6.0, 0.5, 0.5, 1.2, 3.0, 0.7, 24.0), Backfill(18, 32),
+                      Foundation(18, 30, 0, base_friction_ratio=0.6667, embedment=0.7))
+
+
+def test_cantilever_DA2_by_hand():
+    """DA2 = A1 + M1 + R2 (EN 1997-1 Tables A.3, A.4, A.5), written out:
+    weights: base 4.7 x 0.7 x 24 = 78.96 at x 2.35; stem 0.5 x 5.3 x 24 = 63.6 at 1.45;
+    fill 3.0 x 5.3 x 18 = 286.2 at 3.2 -> V_k = 428.76 kN/m.
+    Ka = (1 - sin 32)/(1 + sin 32); Pa = 0.5 Ka 18 6^2, horizontal at 2 m.
+    Sliding: H_d = 1.35 Pa; R_d = 1.0 V_k tan(0.6667 x 30) / 1.1.
+    Bearing, weights unfavourable (x 1.35) or favourable (x 1.0), the worse:
+    e = B/2 - (M_W - M_Pa)/V, B' = B - 2e, strip, m = 2, iq = (1 - H/V)^2,
+    igamma = (1 - H/V)^3, q_ult = q' Nq iq + 0.5 gamma B' Ngamma igamma, q' = 18 x 0.7,
+    R_d = q_ult B' / 1.4."""
+    Ka = (1 - math.sin(math.radians(32))) / (1 + math.sin(math.radians(32)))
+    Pa = 0.5 * Ka * 18 * 36
+    W = [(78.96, 2.35), (63.6, 1.45), (286.2, 3.2)]
+    V_k = sum(w for w, _ in W)
+    M_W = sum(w * x for w, x in W)
+    H_d = 1.35 * Pa
+    R_slide = V_k * math.tan(math.radians(0.6667 * 30)) / 1.1
+    t = math.tan(math.radians(30))
+    Nq = math.exp(math.pi * t) * math.tan(math.radians(60)) ** 2
+    Ng = 2 * (Nq - 1) * t
+
+    def bearing_u(gw):
+        V = gw * V_k
+        e = 4.7 / 2 - (gw * M_W - H_d * 2.0) / V
+        Bp = 4.7 - 2 * abs(e)
+        q_ult = 18 * 0.7 * Nq * (1 - H_d / V) ** 2 + 0.5 * 18 * Bp * Ng * (1 - H_d / V) ** 3
+        return V / (q_ult * Bp / 1.4), V
+    u_b, V_b = max(bearing_u(1.35), bearing_u(1.0))
+    res = verify(issue_wall(), F, "DA2")
+    chk = {k: c for k, (_, c) in res.worst.items()}
+    assert chk["sliding"].E_d == pytest.approx(H_d, rel=1e-9)
+    assert chk["sliding"].R_d == pytest.approx(R_slide, rel=1e-4)
+    assert chk["sliding"].utilisation == pytest.approx(H_d / R_slide, rel=1e-4)
+    assert chk["bearing"].utilisation == pytest.approx(u_b, rel=1e-6)
+    assert res.combinations[0].V_d == pytest.approx(V_b, rel=1e-9)
+    # overturning, A1: destabilising 1.35 Pa x 2, restoring 1.0 x weights
+    assert chk["overturning"].utilisation == pytest.approx(1.35 * Pa * 2.0 / M_W, rel=1e-9)
+
+
+def test_gravity_wall_factors_of_safety_by_hand():
+    """Trapezoid gravity wall, H 4, crest 0.6, base 2.4, vertical back, 24 kN/m3; fill
+    18 / 30 deg level; Coulomb, delta 20 deg on the real back; foundation 18 / 30 deg,
+    delta_b 20 deg, D = 0.5 m. By hand: W = rectangle 57.6 at 2.1 + triangle 86.4 at 1.2;
+    Ka = cos^2 30 / (cos 20 (1 + sqrt(sin 50 sin 30 / cos 20))^2); Pa = 0.5 Ka 18 16,
+    Ph = Pa cos 20 at 4/3 m, Pv = Pa sin 20 at x = 2.4 m.
+    FS_o = (M_W + Pv 2.4)/(Ph 4/3); FS_s = (W + Pv) tan 20 / Ph;
+    FS_b = q_ult B' / V, q_ult = q' Nq iq + 0.5 gamma B' Ngamma igamma (strip, m = 2)."""
+    wall = GravityWall(4.0, crest=0.6, base=2.4, back_batter=0.0, unit_weight=24)
+    case = DesignCase(wall, Backfill(18, 30), Foundation(18, 30, base_friction_angle=20, embedment=0.5),
+                      method=Method("coulomb", wall_friction=20))
+    r = math.radians
+    Ka = math.cos(r(30)) ** 2 / (math.cos(r(20)) * (1 + math.sqrt(math.sin(r(50)) * math.sin(r(30))
+                                                                  / math.cos(r(20)))) ** 2)
+    Pa = 0.5 * Ka * 18 * 16
+    Ph, Pv = Pa * math.cos(r(20)), Pa * math.sin(r(20))
+    M_W = 57.6 * 2.1 + 86.4 * 1.2
+    V = 144.0 + Pv
+    fs_o = (M_W + Pv * 2.4) / (Ph * 4 / 3)
+    fs_s = V * math.tan(r(20)) / Ph
+    e = 1.2 - (M_W + Pv * 2.4 - Ph * 4 / 3) / V
+    Bp = 2.4 - 2 * abs(e)
+    t = math.tan(r(30))
+    Nq = math.exp(math.pi * t) * math.tan(r(60)) ** 2
+    q_ult = 18 * 0.5 * Nq * (1 - Ph / V) ** 2 + 0.5 * 18 * Bp * 2 * (Nq - 1) * t * (1 - Ph / V) ** 3
+    fs = factors_of_safety(verify(case, F, "fs"))
+    assert fs["overturning"] == pytest.approx(fs_o, rel=1e-9)
+    assert fs["sliding"] == pytest.approx(fs_s, rel=1e-9)
+    assert fs["bearing"] == pytest.approx(q_ult * Bp / V, rel=1e-9)
+    assert Ka == pytest.approx(0.2973, abs=1e-4)   # Das Table 6.4 (phi 30, delta 20): 0.2973
+
+
+def test_annex_d_strip_by_hand():
+    """EN 1997-1 D.4 for the CLI example: phi 30, c 0, gamma 18, q 18, B 2, strip,
+    e 0.25, V 300, H 60: B' = 2 - 2 x 0.25 = 1.5; Nq = e^(pi tan 30) tan^2 60 = 18.401;
+    Ngamma = 2 (Nq - 1) tan 30 = 20.093; m = 2; iq = (1 - 60/300)^2 = 0.64;
+    igamma = 0.8^3 = 0.512; q_ult = 18 x 18.401 x 0.64 + 0.5 x 18 x 1.5 x 20.093 x 0.512
+    = 211.98 + 138.88 = 350.86 kPa; R = q_ult B' = 526.3 kN/m."""
+    b = bearing_resistance(phi=30, c=0, gamma=18, q=18, B=2, e=0.25, V=300, H=60)
+    assert b.B_eff == pytest.approx(1.5)
+    assert b.factors["Nq"] == pytest.approx(18.401, abs=1e-3)
+    assert b.factors["Ngamma"] == pytest.approx(20.093, abs=1e-3)
+    assert b.q_ult == pytest.approx(18 * 18.401 * 0.64 + 0.5 * 18 * 1.5 * 20.093 * 0.512, rel=1e-4)
+    assert b.q_ult == pytest.approx(350.86, abs=0.01)
+    assert b.R == pytest.approx(526.30, abs=0.01)
+
+
+def test_annex_d_rectangle_with_cohesion_by_hand():
+    """D.4, rectangle B 2 x L 4, phi 25, c 10, gamma 19, q 20, V 800, H 100 (along B):
+    B'/L' = 0.5; sq = 1 + 0.5 sin 25; sgamma = 1 - 0.3 x 0.5 = 0.85;
+    sc = (sq Nq - 1)/(Nq - 1); m = (2 + 0.5)/(1 + 0.5) = 5/3;
+    base = 1 - H / (V + A' c cot 25), A' = 8; iq = base^m, igamma = base^(m + 1),
+    ic = iq - (1 - iq)/(Nc tan 25); q_ult = c Nc sc ic + q Nq sq iq + 0.5 gamma B' Ngamma
+    sgamma igamma."""
+    t = math.tan(math.radians(25))
+    Nq = math.exp(math.pi * t) * math.tan(math.radians(57.5)) ** 2
+    Nc, Ng = (Nq - 1) / t, 2 * (Nq - 1) * t
+    sq, sg = 1 + 0.5 * math.sin(math.radians(25)), 0.85
+    sc = (sq * Nq - 1) / (Nq - 1)
+    m = 2.5 / 1.5
+    base = 1 - 100 / (800 + 8 * 10 / t)
+    iq, ig = base ** m, base ** (m + 1)
+    ic = iq - (1 - iq) / (Nc * t)
+    q_ult = 10 * Nc * sc * ic + 20 * Nq * sq * iq + 0.5 * 19 * 2 * Ng * sg * ig
+    b = bearing_resistance(phi=25, c=10, gamma=19, q=20, B=2, L=4, V=800, H=100)
+    assert Nq == pytest.approx(10.662, abs=1e-3)    # EN 1997-1 D.4 at 25 deg (tables: 10.66)
+    assert b.q_ult == pytest.approx(q_ult, rel=1e-12)
+    assert b.R == pytest.approx(q_ult * 8, rel=1e-12)
+
+
+def test_vesic_strip_factors():
+    """Vesic (1975) Ngamma = 2 (Nq + 1) tan phi: 22.40 at phi 30 (Das Table 3.3: 22.40)."""
+    b = bearing_resistance(phi=30, c=0, gamma=18, q=0, B=1, V=100, method="vesic")
+    assert b.factors["Ngamma"] == pytest.approx(22.40, abs=0.01)
+    assert b.q_ult == pytest.approx(0.5 * 18 * 1 * b.factors["Ngamma"], rel=1e-12)
