@@ -71,14 +71,16 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
         out.append(Force(p.name, "G", p.source, 0.0, W, x, y))
         if kh > 0 or kv != 0:
             out.append(Force(p.name + " inertia", "E", p.source, kh * W, -kv * W, x, y))
-    thrust = thrust_for(case, materials, kh, kv)
-    q_kind = "G" if case.loads.surcharge_permanent else "Q"
-    for t in thrust.parts:
-        kind = {"soil": "G", "surcharge": q_kind, "seismic": "E"}[t.kind]
-        out.append(Force(t.name, kind, "geotechnical", t.Ph, t.Pv, t.x, t.y))
-    out += _surcharge_on_heel(case, q_kind)
+    out += thrust_forces(thrust_for(case, materials, kh, kv), case.loads.surcharge_permanent)
+    out += _surcharge_on_heel(case, "G" if case.loads.surcharge_permanent else "Q")
     out += _water(case)
     return out
+
+
+def thrust_forces(thrust: Thrust, surcharge_permanent: bool) -> list[Force]:
+    """The thrust parts as forces: soil 'G', surcharge 'Q' (or 'G'), seismic 'E'."""
+    kinds = {"soil": "G", "surcharge": "G" if surcharge_permanent else "Q", "seismic": "E"}
+    return [Force(t.name, kinds[t.kind], "geotechnical", t.Ph, t.Pv, t.x, t.y) for t in thrust.parts]
 
 
 def _surcharge_on_heel(case: DesignCase, kind: str) -> list[Force]:

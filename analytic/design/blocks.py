@@ -24,7 +24,7 @@ from dataclasses import dataclass, replace
 
 from ..errors import InvalidParameter
 from ..inputs import require_number
-from .actions import Force, design_backfill
+from .actions import Force, design_backfill, thrust_forces
 from .case import GAMMA_W, DesignCase, design_angle
 from .checks import factor_of, make_check, overturning_moments, resultant
 from .earth import design_thrust
@@ -135,10 +135,7 @@ def joint_forces(case: DesignCase, z: float, materials: dict, kh: float = 0.0,
         delta = case.method.wall_friction if case.method.wall_friction is not None else 2 / 3 * fill.phi
         thrust = design_thrust(fill, back, "coulomb", q=case.loads.surcharge, delta=min(delta, fill.phi),
                                kh=kh, kv=kv, increment_height=case.seismic.increment_height)
-        q_kind = "G" if case.loads.surcharge_permanent else "Q"
-        for t in thrust.parts:
-            kind = {"soil": "G", "surcharge": q_kind, "seismic": "E"}[t.kind]
-            out.append(Force(t.name, kind, "geotechnical", t.Ph, t.Pv, t.x, t.y))
+        out += thrust_forces(thrust, case.loads.surcharge_permanent)
     return out, y_I
 
 
