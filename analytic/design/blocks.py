@@ -156,7 +156,7 @@ def joint_checks(case: DesignCase, combo, z: float, kh: float = 0.0, kv: float =
     slide = make_check("sliding", H, V * tan_r if math.isfinite(tan_r) else math.inf,
                        f"bed joint at z = {z:.3f} m, tan(alpha + phi_b,d)")
     g_o = [factor_of(f, combo, "overturning", 0.0, ss) for f in local]
-    dst, stb = overturning_moments(local, g_o)
+    dst, stb = overturning_moments(local, g_o, net=case.method.thrust_moment == "net")
     topple = make_check("overturning", dst, stb, f"toppling about the outer edge of the joint at z = {z:.3f} m")
     return {"z": z, "y_I": y_I, "sliding": slide, "overturning": topple, "V": V, "H": H}
 

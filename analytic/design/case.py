@@ -94,15 +94,21 @@ class Method:
     beta on a virtual back, 2/3 phi on a real back); passive: count passive resistance
     in front (sliding only) times passive_mobilisation (off by default); single_source:
     every permanent action takes the unfavourable factor (EN 1997-1 2.4.2(9)P Note 1;
-    off: each action is favourable or not by its own effect on the check)."""
+    off: each action is favourable or not by its own effect on the check);
+    thrust_moment: 'restoring' (the vertical thrust component adds to the restoring
+    moment, the textbook factor-of-safety convention) or 'net' (each force's net moment
+    about the toe, as in the JRC EC7 worked example A.4)."""
 
     earth_pressure: str = "rankine-virtual-back"
     wall_friction: float | None = None
     passive: bool = False
     passive_mobilisation: float = 0.5
     single_source: bool = False
+    thrust_moment: str = "restoring"
 
     def __post_init__(self):
+        if self.thrust_moment not in ("restoring", "net"):
+            raise InvalidParameter("method.thrust_moment", self.thrust_moment, "'restoring' or 'net'")
         if self.earth_pressure not in METHODS:
             raise InvalidParameter("method.earth_pressure", self.earth_pressure, " | ".join(METHODS))
         require_number("method.passive_mobilisation", self.passive_mobilisation, 0.0, 1.0, hi_open=False)

@@ -82,14 +82,18 @@ def eccentricity(V: float, M_toe: float, B: float) -> float:
     return B / 2 - M_toe / V if V > 0 else math.inf
 
 
-def overturning_moments(forces: list[Force], factors: list[float]) -> tuple[float, float]:
-    """(M_dst, M_stb) about the toe [kN m/m], each force split into its horizontal and
-    vertical moment (the vertical thrust component restores: textbook convention)."""
+def overturning_moments(forces: list[Force], factors: list[float], *, net: bool = False) -> tuple[float, float]:
+    """(M_dst, M_stb) about the toe [kN m/m]. Default (textbook factor-of-safety
+    convention): each force split into its horizontal and vertical moments, so the
+    vertical thrust component restores. ``net``: each force's net moment Fh y - Fv x
+    counts as destabilising or restoring as a whole (the convention of the JRC worked
+    example A.4 / Bond & Harris for EC7 toppling)."""
     dst = stb = 0.0
     for f, g in zip(forces, factors):
         if f.kind == "P":
             continue
-        for m in (f.Fh * f.y, -f.Fv * f.x):
+        parts = (f.Fh * f.y - f.Fv * f.x,) if net else (f.Fh * f.y, -f.Fv * f.x)
+        for m in parts:
             if m > 0:
                 dst += g * m
             else:

@@ -23,7 +23,7 @@ TABLES = {"backfill": (Backfill, {"gamma", "phi", "c", "beta"}),
           "loads": (Loads, {"surcharge", "surcharge_permanent"}),
           "water": (Water, {"front", "behind"}),
           "method": (Method, {"earth_pressure", "wall_friction", "passive", "passive_mobilisation",
-                              "single_source"}),
+                              "single_source", "thrust_moment"}),
           "seismic": (Seismic, {"alpha", "S", "r", "vertical_ratio", "increment_height"})}
 
 

@@ -100,7 +100,7 @@ def evaluate(case: DesignCase, combo: Combination, *, kh: float = 0.0, kv: float
     B = case.wall.B
     out = CombinationResult(combo.name, B=B, K=thrust_for(case, mats, kh, kv).K, kh=kh, kv=kv)
     g_o = _forces_factors(forces, combo, "overturning", tan_db, ss)
-    dst, stb = overturning_moments(forces, g_o)
+    dst, stb = overturning_moments(forces, g_o, net=case.method.thrust_moment == "net")
     out.checks["overturning"] = make_check("overturning", dst, stb, "moments about the toe")
     if combo.name == "EQU":
         return out

@@ -32,7 +32,8 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
                                         "effect on the check"))
     out.append("passive resistance in front: " + (f"on, x {m.passive_mobilisation:g} mobilised, sliding only"
                                                    if m.passive else "off"))
-    out.append("overturning: moments about the toe; the vertical thrust component restores")
+    out.append("overturning: moments about the toe; " + ("each force's net moment" if m.thrust_moment == "net"
+                                                          else "the vertical thrust component restores"))
     out.append("bearing: EN 1997-1 Annex D, B' = B - 2e, load inclined along B, no depth factors "
                "(Annex D has none)")
     out.append("eccentricity: " + ("middle third, e <= B/6" if fmt == "fs" else
