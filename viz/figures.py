@@ -350,7 +350,12 @@ def plot_wall_design(case, result, path) -> Path:
         parts += wall.fill_parts(case.backfill.beta, case.backfill.gamma)
     for p in parts:
         ax.fill(*zip(*p.polygon), color="0.7" if p.source == "structural" else "wheat", ec="k", lw=0.8)
-    forces = [] if blocks else wall_forces(case, unit)
+    if blocks:
+        from analytic.design.blocks import joint_forces
+        forces = joint_forces(case, 0.0, unit)[0]
+    else:
+        forces = wall_forces(case, unit)
+    _water_lines(ax, case)
     scale = 0.25 * wall.H / max([abs(f.Fh) + abs(f.Fv) for f in forces] + [1.0])
     if not blocks:
         _pressure_diagram(ax, thrust_for(case, unit), scale)
@@ -376,6 +381,15 @@ def plot_wall_design(case, result, path) -> Path:
     if ax.get_legend_handles_labels()[0]:
         ax.legend(loc="upper left", fontsize=8)
     return _finish(fig, path)
+
+
+def _water_lines(ax, case) -> None:
+    """Free-water levels in front and behind the wall (blue lines)."""
+    B = case.wall.B
+    if case.water.front > 0:
+        ax.plot([-0.3 * B, 0.0], [case.water.front] * 2, color="C9", lw=1.5, label="water in front")
+    if case.water.behind > 0:
+        ax.plot([B, 1.4 * B], [case.water.behind] * 2, color="C9", lw=1.5, label="water behind")
 
 
 def _pressure_diagram(ax, thrust, scale) -> None:

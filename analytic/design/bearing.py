@@ -92,7 +92,7 @@ def bearing_resistance(*, phi: float, c: float, gamma: float, q: float, B: float
 def bearing_undrained(*, cu: float, q: float, B: float, V: float, H: float = 0.0,
                       L: float = math.inf, e: float = 0.0, e_L: float = 0.0) -> Bearing:
     """Undrained bearing resistance, EN 1997-1 Annex D.3 (see the module docstring);
-    cu [kPa] > 0; H <= A' cu or the footing slides (ic undefined)."""
+    cu [kPa] > 0. For H > A' cu (the footing slides first) ic is taken at its limit 0.5."""
     require_number("cu", cu, 0.0, None, unit="kPa")
     B_eff, L_eff, A, r = _effective(B, L, e, e_L)
     sc = 1 + 0.2 * r

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 from .actions import passive_force, thrust_for, wall_forces
 from .bearing import bearing_resistance, bearing_undrained
-from .case import DesignCase
+from .case import DesignCase, design_angle
 from .checks import (Check, eccentricity, factor_of, make_check, overturning_moments, resultant)
 from .factors import Combination, Factors
 
@@ -59,6 +59,7 @@ class FormatResult:
     format: str
     combinations: list
     worst: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)
 
     @property
     def governing(self) -> tuple[str, str, float]:
@@ -79,12 +80,11 @@ def _bearing(case: DesignCase, combo: Combination, V: float, H: float, e: float)
     if V <= 0 or abs(e) >= B / 2:
         return [make_check("bearing", max(V, 1.0), 0.0, "resultant outside the base")], 0.0, 0.0
     q0 = f.gamma / m["gamma"] * f.embedment
-    phi_d = math.degrees(math.atan(math.tan(math.radians(f.phi)) / m["phi"]))
-    b = bearing_resistance(phi=phi_d, c=f.c / m["c"], gamma=f.gamma / m["gamma"], q=q0, B=B, V=V,
-                           H=abs(H), e=e)
+    b = bearing_resistance(phi=design_angle(f.phi, m["phi"]), c=f.c / m["c"], gamma=f.gamma / m["gamma"], q=q0,
+                           B=B, V=V, H=abs(H), e=e)
     out.append(make_check("bearing", V, b.R / r["bearing"], f"EN 1997-1 D.4, B' = {b.B_eff:.3f} m"))
     if f.cu is not None:
-        u = bearing_undrained(cu=f.cu / m["cu"], q=f.gamma * f.embedment, B=B, V=V, H=min(abs(H), b.B_eff * f.cu / m["cu"]), e=e)
+        u = bearing_undrained(cu=f.cu / m["cu"], q=q0, B=B, V=V, H=abs(H), e=e)
         out.append(make_check("bearing (undrained)", V, u.R / r["bearing"], "EN 1997-1 D.3"))
     return out, b.q_ult, b.B_eff
 
@@ -158,7 +158,13 @@ def verify(case: DesignCase, factors: Factors, fmt: str) -> FormatResult:
         for name, c in r.checks.items():
             if name not in worst or c.utilisation > worst[name][1].utilisation:
                 worst[name] = (label, c)
-    return FormatResult(fmt, results, worst)
+    out = FormatResult(fmt, results, worst)
+    if getattr(case.wall, "kind", "") == "blocks" and case.backfill is None and "FS" in factors.combinations:
+        from .blocks import critical_water_height
+        hw, mech, z = critical_water_height(case, factors.combinations["FS"])
+        out.extra = {"critical_water_height_m": hw if math.isfinite(hw) else None,
+                     "critical_mechanism": mech or None, "critical_joint_z_m": z if math.isfinite(z) else None}
+    return out
 
 
 def factors_of_safety(result: FormatResult) -> dict:

@@ -19,9 +19,12 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
     """The conventions a result followed, one sentence each."""
     m, fnd = case.method, case.foundation
     out = []
-    if getattr(case.wall, "kind", "") == "blocks":
+    blocks = getattr(case.wall, "kind", "") == "blocks"
+    if blocks:
         out.append("block wall: sliding along and toppling about the outer edge of every bed joint; "
-                   "loads on the moving part's inner face only; no uplift in dry joints")
+                   "loads on the moving part's inner face only; no uplift in dry joints; no staircase mechanisms")
+        if case.backfill is not None:
+            out.append("fill: Coulomb on the inner face above each joint, delta = wall_friction or 2/3 phi")
     else:
         out.append(f"earth pressure: {m.earth_pressure}, on the "
                    + ("real back" if m.earth_pressure == "coulomb" and case.wall.kind == "gravity"
@@ -34,10 +37,11 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
                                                    if m.passive else "off"))
     out.append("overturning: moments about the toe; " + ("each force's net moment" if m.thrust_moment == "net"
                                                           else "the vertical thrust component restores"))
-    out.append("bearing: EN 1997-1 Annex D, B' = B - 2e, load inclined along B, no depth factors "
-               "(Annex D has none)")
-    out.append("eccentricity: " + ("middle third, e <= B/6" if fmt == "fs" else
-                                   "middle two thirds, e <= B/3 (EN 1997-1 6.5.4)"))
+    if fnd is not None:
+        out.append("bearing: EN 1997-1 Annex D, B' = B - 2e, load inclined along B, no depth factors "
+                   "(Annex D has none)" + ("; the base's counter-slope neglected" if blocks else ""))
+        out.append("eccentricity: " + ("middle third, e <= B/6" if fmt == "fs" else
+                                       "middle two thirds, e <= B/3 (EN 1997-1 6.5.4)"))
     if fmt == "seismic":
         s = case.seismic
         out.append(f"seismic (EN 1998-5 7.3.2.2): kh = alpha S / r = {s.kh:.4g}, kv = +-{s.kv:.4g}; "
@@ -73,8 +77,10 @@ def design_json(case: DesignCase, result: FormatResult, fs_required: dict | None
         out.update({"V_kN_per_m": lead.V_d, "H_kN_per_m": lead.H_d})
         if fs_required:
             out["fs_required"] = fs_required
-    out.update({"V_d_kN_per_m": lead.V_d, "H_d_kN_per_m": lead.H_d, "e_m": _num(lead.e),
-                "B_eff_m": lead.B_eff, "q_ult_kPa": lead.q_ult, "Ka": lead.K})
+    base = "bearing" in result.worst
+    out.update({"V_d_kN_per_m": lead.V_d, "H_d_kN_per_m": lead.H_d, "e_m": _num(lead.e) if base else None,
+                "B_eff_m": lead.B_eff if base else None, "q_ult_kPa": lead.q_ult if base else None,
+                "Ka": lead.K if lead.K else None})
     out["checks"] = {k: _check_json(label, c) for k, (label, c) in result.worst.items()}
     name, combo, u = result.governing
     out["governing"] = {"check": name, "combination": combo, "utilisation": _num(u), "passes": u <= 1.0}
@@ -82,6 +88,7 @@ def design_json(case: DesignCase, result: FormatResult, fs_required: dict | None
     if joints:
         out["joints"] = [{"z_m": r["z"], "y_I_m": r["y_I"], "sliding": _num(r["sliding"].utilisation),
                           "overturning": _num(r["overturning"].utilisation)} for r in joints]
+    out.update(result.extra)
     out["conventions"] = conventions(case, result.format)
     return out
 
@@ -90,14 +97,19 @@ def design_text(case: DesignCase, result: FormatResult) -> str:
     """A plain-text table of the checks, the governing one and the conventions."""
     lead = _lead(result)
     lines = [f"{case.wall.kind} wall, B = {lead.B:.3f} m, format {result.format}",
-             f"  V_d = {lead.V_d:.2f} kN/m  H_d = {lead.H_d:.2f} kN/m  e = {lead.e:.3f} m  "
-             f"B' = {lead.B_eff:.3f} m  q_ult = {lead.q_ult:.1f} kPa  K = {lead.K:.4f}",
+             f"  V_d = {lead.V_d:.2f} kN/m  H_d = {lead.H_d:.2f} kN/m" + (
+                 f"  e = {lead.e:.3f} m  B' = {lead.B_eff:.3f} m  q_ult = {lead.q_ult:.1f} kPa  K = {lead.K:.4f}"
+                 if "bearing" in result.worst else "  (at the base joint; no foundation given)"),
              f"  {'check':22s} {'E_d':>10s} {'R_d':>10s} {'util.':>7s}  combination"]
     for k, (label, c) in result.worst.items():
         lines.append(f"  {k:22s} {c.E_d:10.2f} {c.R_d:10.2f} {c.utilisation:7.3f}  {label}")
     if result.format == "fs":
         fs = factors_of_safety(result)
         lines.append("  factors of safety: " + ", ".join(f"{k} {v:.3f}" for k, v in fs.items()))
+    if result.extra.get("critical_mechanism"):
+        x = result.extra
+        lines.append(f"  limit equilibrium (factors 1): critical water height {x['critical_water_height_m']:.3f} m, "
+                     f"{x['critical_mechanism']} at the joint z = {x['critical_joint_z_m']:.3f} m")
     name, combo, u = result.governing
     lines.append(f"  governing: {name} ({combo}), utilisation {u:.3f} -> {'passes' if u <= 1 else 'FAILS'}")
     lines += ["  conventions:"] + [f"   - {c}" for c in conventions(case, result.format)]

@@ -123,3 +123,60 @@ def test_bearing_bad_phi(capsys):
     assert exc.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "phi" in err[0] and "(0, 50]" in err[0]
+
+
+BLOCKS = """
+[wall]
+type = "blocks"
+height = 3.0
+base = 1.2
+back_batter = 5
+courses = 10
+joint_slope = 5
+joint_friction = 25
+unit_weight = 22
+[water]
+behind = 2.0
+"""
+
+
+def test_design_block_wall_critical_water_height(tmp_path, capsys):
+    """Same closed form as test_block_wall_sliding_water_height_matches_closed_form
+    (drystone-walls.md 5.4), through the command line."""
+    import math
+    t = math.tan(math.radians(5))
+    x_h = 1.2 / (1 - t * t)
+    y_h = -x_h * t
+    W = 22 * ((1.2 + 1.2 - 3 * t) / 2 * 3 + 0.5 * 1.2 * abs(y_h))
+    T = math.tan(math.radians(30))
+    hw = y_h + math.sqrt(2 * W * T / (9.81 * (1 - t * T)))
+    assert main(["design", write(tmp_path, BLOCKS), "--format", "fs", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["critical_mechanism"] == "sliding" and out["critical_joint_z_m"] == 0.0
+    assert out["critical_water_height_m"] == pytest.approx(hw, abs=1e-5)
+    assert len(out["joints"]) == 10 and out["e_m"] is None
+
+
+def test_design_block_wall_too_narrow(tmp_path, capsys):
+    text = BLOCKS.replace("base = 1.2", "base = 0.2").replace("back_batter = 5", "back_batter = 5\nfront_batter = 5")
+    assert main(["design", write(tmp_path, text)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "wall.base" in err[0]
+
+
+def test_design_replaced_factors(tmp_path, capsys):
+    """A national annex's table: R2 sliding 1.0 instead of 1.1 divides the DA2 sliding
+    utilisation by 1.1 exactly."""
+    from importlib import resources
+    text = resources.files("analytic.design").joinpath("factors/ec7.toml").read_text()
+    assert text.count("sliding = 1.1\n") == 1
+    fac = write(tmp_path, text.replace("sliding = 1.1\n", "sliding = 1.0\n"), "na.toml")
+    wall = write(tmp_path)
+    assert main(["design", wall, "--format", "DA2", "--json"]) == 0
+    u0 = json.loads(capsys.readouterr().out)["checks"]["sliding"]["utilisation"]
+    assert main(["design", wall, "--format", "DA2", "--factors", fac, "--json"]) == 0
+    u1 = json.loads(capsys.readouterr().out)["checks"]["sliding"]["utilisation"]
+    assert u1 == pytest.approx(u0 / 1.1, rel=1e-12)
+    bad = write(tmp_path, text.replace("[combinations.DA2]", "[combinations.XX]"), "bad.toml")
+    assert main(["design", wall, "--format", "DA2", "--factors", bad]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1

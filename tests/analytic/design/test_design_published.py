@@ -242,3 +242,74 @@ def test_jrc_a4_DA2_toppling_net_moment():
     M_stb = 78 * 1.95 + 105 * 1.3 + 2.25 * 6 * 19 * 2.775 + 0.5 * 2.25 * 2.25 * math.tan(math.radians(20)) * 19 * 3.15
     assert o.R_d == pytest.approx(M_stb, rel=1e-6)
     assert o.utilisation == pytest.approx(0.32, abs=0.006)
+
+
+def test_annex_d_undrained_by_hand():
+    """EN 1997-1 D.3: cu 50, q 10, B 2, e 0.1, V 200, H 30 (strip): B' = A' = 1.8;
+    ic = 0.5 (1 + sqrt(1 - 30 / (1.8 x 50))) = 0.90825; q_ult = (pi + 2) 50 x 1 x ic + 10;
+    rectangle L 4: sc = 1 + 0.2 x 1.8 / 4 = 1.09, A' = 7.2, ic with A' = 7.2."""
+    from analytic.design import bearing_undrained
+    ic = 0.5 * (1 + math.sqrt(1 - 30 / (1.8 * 50)))
+    b = bearing_undrained(cu=50, q=10, B=2, e=0.1, V=200, H=30)
+    assert ic == pytest.approx(0.90825, abs=1e-5)
+    assert b.q_ult == pytest.approx((math.pi + 2) * 50 * ic + 10, rel=1e-12)
+    assert b.R == pytest.approx(b.q_ult * 1.8, rel=1e-12)
+    r = bearing_undrained(cu=50, q=10, B=2, L=4, e=0.1, V=200, H=30)
+    ic_r = 0.5 * (1 + math.sqrt(1 - 30 / (1.8 * 4 * 50)))
+    assert r.q_ult == pytest.approx((math.pi + 2) * 50 * 1.09 * ic_r + 10, rel=1e-12)
+
+
+def gravity_by_hand():
+    """The gravity wall of test_gravity_wall_factors_of_safety_by_hand and its parts."""
+    wall = GravityWall(4.0, crest=0.6, base=2.4, back_batter=0.0, unit_weight=24)
+    return wall, Backfill(18, 30), Foundation(18, 30, base_friction_angle=20, embedment=0.5)
+
+
+def test_gravity_wall_water_in_front_and_uplift_by_hand():
+    """Water 0.6 m in front: push gamma_w 0.6^2 / 2 = 1.7658 kN/m back toward the fill at
+    0.2 m; uplift triangular from gamma_w 0.6 at the toe to 0 at the heel:
+    U = 0.5 x 9.81 x 0.6 x 2.4 = 7.0632 kN/m at B/3 = 0.8 m.
+    FS_s = (W + Pv - U) tan 20 / (Ph - 1.7658); FS_o = (M_W + Pv 2.4 + 1.7658 x 0.2) /
+    (Ph 4/3 + U 0.8)."""
+    from analytic.design import Water
+    wall, fill, fnd = gravity_by_hand()
+    case = DesignCase(wall, fill, fnd, water=Water(front=0.6), method=Method("coulomb", wall_friction=20))
+    r = math.radians
+    Ka = math.cos(r(30)) ** 2 / (math.cos(r(20)) * (1 + math.sqrt(math.sin(r(50)) * math.sin(r(30))
+                                                                  / math.cos(r(20)))) ** 2)
+    Pa = 0.5 * Ka * 18 * 16
+    Ph, Pv = Pa * math.cos(r(20)), Pa * math.sin(r(20))
+    Fw, U = 0.5 * 9.81 * 0.36, 0.5 * 9.81 * 0.6 * 2.4
+    M_W = 57.6 * 2.1 + 86.4 * 1.2
+    fs = factors_of_safety(verify(case, F, "fs"))
+    assert fs["sliding"] == pytest.approx((144 + Pv - U) * math.tan(r(20)) / (Ph - Fw), rel=1e-9)
+    assert fs["overturning"] == pytest.approx((M_W + Pv * 2.4 + Fw * 0.2) / (Ph * 4 / 3 + U * 0.8), rel=1e-9)
+
+
+def test_gravity_wall_seismic_by_hand():
+    """EN 1998-5 7.3.2.2: alpha 0.1, S 1, r 1 -> kh = 0.1; a_vg/a_g = 0.5 <= 0.6 ->
+    kv = +-0.33 kh = +-0.033; materials tan(phi)/1.25 (EN 1998-5 3.1(3)), actions x 1.
+    phi_d = atan(tan 30 / 1.25); Mononobe-Okabe (EN 1998-5 Annex E) with delta 20, vertical
+    back, level fill: psi = atan(kh / (1 - kv)),
+    K_AE = cos^2(phi - psi) / (cos psi cos(delta + psi) [1 + sqrt(sin(phi + delta)
+    sin(phi - psi) / cos(delta + psi))]^2), P_AE = 0.5 gamma H^2 (1 - kv) K_AE at delta.
+    Wall inertia kh W = 0.1 x 144 horizontal, -kv W vertical.
+    Sliding: E = P_AE cos 20 + kh W, R = (W (1 - kv) + P_AE sin 20) tan(delta_b,d),
+    tan(delta_b,d) = tan 20 / 1.25; the worse sign of kv is reported."""
+    from analytic.design import Seismic
+    wall, fill, fnd = gravity_by_hand()
+    case = DesignCase(wall, fill, fnd, method=Method("coulomb", wall_friction=20),
+                      seismic=Seismic(alpha=0.1, S=1.0, r=1.0, vertical_ratio=0.5))
+    r = math.radians
+    phi, d, kh = math.atan(math.tan(r(30)) / 1.25), r(20), 0.1
+
+    def sliding_u(kv):
+        psi = math.atan(kh / (1 - kv))
+        K = math.cos(phi - psi) ** 2 / (math.cos(psi) * math.cos(d + psi) * (
+            1 + math.sqrt(math.sin(phi + d) * math.sin(phi - psi) / math.cos(d + psi))) ** 2)
+        P = 0.5 * 18 * 16 * (1 - kv) * K
+        E = P * math.cos(d) + kh * 144
+        R = (144 * (1 - kv) + P * math.sin(d)) * math.tan(r(20)) / 1.25
+        return E / R
+    res = verify(case, F, "seismic")
+    assert res.worst["sliding"][1].utilisation == pytest.approx(max(sliding_u(0.033), sliding_u(-0.033)), rel=1e-9)
