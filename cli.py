@@ -176,10 +176,12 @@ def _cmd_design(args) -> int:
     if args.format == "all" and case.seismic.kh == 0:
         fmts.remove("seismic")
     if args.solve:
-        case, _ = solve(case, factors, fmts[0] if len(fmts) == 1 else "DA1", args.solve)
-        print(f"solved {args.solve} = {_solved(case.wall, args.solve):.4f} m (B = {case.wall.B:.4f} m)",
-              file=sys.stderr)
+        case = solve(case, factors, fmts, args.solve)
     results = {f: verify(case, factors, f) for f in fmts}
+    if args.solve:
+        check, combo, u = max((r.governing for r in results.values()), key=lambda g: g[2])
+        print(f"solved {args.solve} = {_solved(case.wall, args.solve):.4f} m (B = {case.wall.B:.4f} m); "
+              f"governing: {check} ({combo}), utilisation {u:.4f}", file=sys.stderr)
     out = {f: design_json(case, r, factors.fs if f == "fs" else None) for f, r in results.items()}
     if args.json:
         print(json.dumps(out[fmts[0]] if len(fmts) == 1 else out, indent=2))

@@ -14,7 +14,7 @@ import math
 from ..errors import InvalidParameter
 from .case import DesignCase
 from .factors import Factors
-from .formats import FormatResult, verify
+from .formats import verify
 
 DIMENSIONS = ("toe", "heel", "base")
 
@@ -30,38 +30,36 @@ def _lower_bound(case: DesignCase, name: str) -> float:
     return 0.0
 
 
-def governing_utilisation(case: DesignCase, factors: Factors, fmt: str) -> tuple[float, FormatResult | None]:
-    """The highest utilisation of the format (inf if the wall cannot be evaluated)."""
-    try:
-        res = verify(case, factors, fmt)
-    except (InvalidParameter, ZeroDivisionError, ValueError):
-        return math.inf, None
-    return res.governing[2], res
+def governing_utilisation(case: DesignCase, factors: Factors, fmts) -> float:
+    """The highest utilisation over the formats (inf if the wall cannot be evaluated)."""
+    worst = 0.0
+    for fmt in ([fmts] if isinstance(fmts, str) else fmts):
+        try:
+            worst = max(worst, verify(case, factors, fmt).governing[2])
+        except (InvalidParameter, ZeroDivisionError, ValueError):
+            return math.inf
+    return worst
 
 
-def solve(case: DesignCase, factors: Factors, fmt: str, name: str, *, step: float = 0.05,
-          tol: float = 1e-7, max_size: float = 50.0) -> tuple[DesignCase, FormatResult]:
-    """The case with the smallest passing ``name`` and its result."""
+def solve(case: DesignCase, factors: Factors, fmts, name: str, *, step: float = 0.05,
+          tol: float = 1e-7, max_size: float = 50.0) -> DesignCase:
+    """The case with the smallest ``name`` [m] for which every check of every format in
+    ``fmts`` (a name or a list) passes."""
     if name not in DIMENSIONS:
         raise InvalidParameter("solve", name, " | ".join(DIMENSIONS))
 
-    def trial(d):
-        c = case.replace_wall(case.wall.with_dimension(name, d))
-        return governing_utilisation(c, factors, fmt)[0]
+    def resized(d):
+        return case.replace_wall(case.wall.with_dimension(name, d))
 
-    case.wall.with_dimension(name, _lower_bound(case, name) + step)   # refuses a wrong dimension early
     lo = _lower_bound(case, name)
+    resized(lo + step)                    # refuses a dimension this wall does not have
     hi = lo
-    while trial(hi) > 1.0:
+    while governing_utilisation(resized(hi), factors, fmts) > 1.0:
         lo, hi = hi, hi + step
         if hi > max_size:
             raise InvalidParameter("solve", name, f"a size below {max_size:g} m",
                                    "no size passes every check of this format")
-    if hi == lo:
-        c = case.replace_wall(case.wall.with_dimension(name, hi))
-        return c, verify(c, factors, fmt)
-    while hi - lo > tol:
+    while hi - lo > tol and hi > lo:
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if trial(mid) > 1.0 else (lo, mid)
-    c = case.replace_wall(case.wall.with_dimension(name, hi))
-    return c, verify(c, factors, fmt)
+        lo, hi = (mid, hi) if governing_utilisation(resized(mid), factors, fmts) > 1.0 else (lo, mid)
+    return resized(hi)

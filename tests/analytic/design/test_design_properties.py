@@ -66,8 +66,8 @@ def test_base_pressure_integrates_to_V_and_e(e_over_B):
 
 @pytest.mark.parametrize("fmt", ["DA1", "DA2", "fs"])
 def test_solve_heel_gives_unit_utilisation(fmt):
-    case, res = solve(wall_case(heel=1.0), F, fmt, "heel")
-    assert res.governing[2] == pytest.approx(1.0, abs=1e-3)
+    case = solve(wall_case(heel=1.0), F, fmt, "heel")
+    assert verify(case, F, fmt).governing[2] == pytest.approx(1.0, abs=1e-3)
     shorter = case.replace_wall(case.wall.with_dimension("heel", case.wall.heel - 0.01))
     assert verify(shorter, F, fmt).governing[2] > 1.0
 
@@ -136,3 +136,17 @@ def test_block_wall_checks_every_joint_with_backfill():
     assert {"sliding", "overturning", "bearing", "eccentricity"} <= set(res.worst)
     assert res.worst["sliding"][1].utilisation == max(
         r["sliding"].utilisation for c in res.combinations for r in c.joints)
+
+
+def test_solve_toe_and_base_and_all_formats():
+    """--solve toe on a cantilever, base on a gravity wall, and heel against several
+    formats at once: the governing utilisation over them all is 1 within 1e-3."""
+    from analytic.design import GravityWall
+    c = solve(wall_case(heel=2.0, q=0.0), F, "fs", "toe")
+    assert verify(c, F, "fs").governing[2] == pytest.approx(1.0, abs=1e-3)
+    g = DesignCase(GravityWall(4.0, crest=0.6, base=1.0), Backfill(18, 30), Foundation(18, 30, embedment=0.5),
+                   method=Method("coulomb", wall_friction=20))
+    g = solve(g, F, "DA1", "base")
+    assert verify(g, F, "DA1").governing[2] == pytest.approx(1.0, abs=1e-3)
+    both = solve(wall_case(heel=1.0), F, ["DA1", "DA2", "fs"], "heel")
+    assert max(verify(both, F, f).governing[2] for f in ("DA1", "DA2", "fs")) == pytest.approx(1.0, abs=1e-3)
