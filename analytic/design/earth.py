@@ -95,8 +95,9 @@ def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float =
     Soil thrust 0.5 K gamma H^2 at H/3 (linear distribution, the usual convention).
     kh > 0: Mononobe-Okabe (EN 1998-5 Annex E, E.2-E.4) with kv > 0 upward; total
     0.5 gamma H^2 (1 - kv) K_AE; the increment over the static thrust acts at
-    ``increment_height`` x H above the back's bottom (0.5: mid-height, EN 1998-5 Annex E
-    E.9 for walls that do not rotate about the toe; the static part stays at H/3)."""
+    ``increment_height`` x H above the back's bottom (default 0.5: mid-height, the usual
+    EN 1998-5 Annex E reading for walls that do not rotate about the toe; recalled, not
+    checked against the text, hence a setting; the static part stays at H/3)."""
     if method not in METHODS:
         raise InvalidParameter("method.earth_pressure", method, " | ".join(METHODS))
     if method == "ec7-annex-c":
