@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 from .actions import passive_force, thrust_for, wall_forces
 from .bearing import bearing_resistance, bearing_undrained
-from .case import DesignCase, design_angle
+from .case import GAMMA_W, DesignCase, design_angle
 from .checks import (Check, eccentricity, factor_of, make_check, overturning_moments, resultant)
 from .factors import Combination, Factors
 
@@ -73,15 +73,20 @@ def _forces_factors(forces, combo, check, tan_db, ss):
 
 
 def _bearing(case: DesignCase, combo: Combination, V: float, H: float, e: float):
-    """Drained (and undrained, with cu) bearing checks for one design resultant."""
+    """Drained (and undrained, with cu) bearing checks for one design resultant. With
+    water in front above the base underside the drained check uses effective stresses:
+    q' = gamma D - gamma_w min(h_w, D) and gamma' = gamma - gamma_w below the base (the
+    uplift is already among the actions)."""
     f, m, r = case.foundation, combo.materials, combo.resistances
     B = case.wall.B
     out = []
     if V <= 0 or abs(e) >= B / 2:
         return [make_check("bearing", max(V, 1.0), 0.0, "resultant outside the base")], 0.0, 0.0
-    q0 = f.gamma / m["gamma"] * f.embedment
-    b = bearing_resistance(phi=design_angle(f.phi, m["phi"]), c=f.c / m["c"], gamma=f.gamma / m["gamma"], q=q0,
-                           B=B, V=V, H=abs(H), e=e)
+    g, hw = f.gamma / m["gamma"], case.water.front
+    q0 = g * f.embedment - GAMMA_W * min(hw, f.embedment)        # effective overburden q'
+    g_eff = g - GAMMA_W if hw > 0 else g                          # submerged below a flooded base
+    b = bearing_resistance(phi=design_angle(f.phi, m["phi"]), c=f.c / m["c"], gamma=max(g_eff, 1e-9),
+                           q=max(q0, 0.0), B=B, V=V, H=abs(H), e=e)
     out.append(make_check("bearing", V, b.R / r["bearing"], f"EN 1997-1 D.4, B' = {b.B_eff:.3f} m"))
     if f.cu is not None:
         u = bearing_undrained(cu=f.cu / m["cu"], q=q0, B=B, V=V, H=abs(H), e=e)

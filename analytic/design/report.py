@@ -39,7 +39,8 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
                                                           else "the vertical thrust component restores"))
     if fnd is not None:
         out.append("bearing: EN 1997-1 Annex D, B' = B - 2e, load inclined along B, no depth factors "
-                   "(Annex D has none)" + ("; the base's counter-slope neglected" if blocks else ""))
+                   "(Annex D has none)" + ("; the base's counter-slope neglected" if blocks else "")
+                   + ("; effective q' and gamma' under water" if case.water.front > 0 else ""))
         out.append("eccentricity: " + ("middle third, e <= B/6" if fmt == "fs" else
                                        "middle two thirds, e <= B/3 (EN 1997-1 6.5.4)"))
     if fmt == "seismic":

@@ -234,15 +234,32 @@ class GravityWall:
         return self._corners()[2]
 
     def fill_parts(self, beta_deg: float, gamma: float) -> list[Part]:
-        """Fill between the back face and the virtual back (none for a vertical back)."""
-        if self.polygon is not None:
-            raise InvalidParameter("wall.polygon", "a polygon", "a trapezoid for the virtual back "
-                                   "(polygon walls take coulomb on their virtual back with wall_friction)")
+        """Fill between the back face (the polygon's boundary from the heel up to its
+        highest back point) and the virtual back; none for a vertical back."""
         B, (xt, yt) = self.B, self.fill_top()
         if xt >= B - 1e-12:
             return []
         top = yt + (B - xt) * math.tan(math.radians(beta_deg))
-        return [Part("fill on back", ((B, 0.0), (B, top), (xt, yt)), gamma, "geotechnical")]
+        chain = self._back_chain() if self.polygon is not None else [(B, 0.0), (xt, yt)]
+        return [Part("fill on back", tuple(chain) + ((B, top),), gamma, "geotechnical")]
+
+    def _back_chain(self) -> list[Point]:
+        """Polygon vertices from the heel (B, 0) up the back to the fill top, the way
+        round that does not pass the toe."""
+        pts = [(float(x), float(y)) for x, y in self.polygon]
+        n = len(pts)
+        i_h = pts.index(max((p for p in pts if abs(p[1]) < 1e-9), key=lambda p: p[0]))
+        i_t = pts.index(self.fill_top())
+        i_toe = pts.index(min((p for p in pts if abs(p[1]) < 1e-9), key=lambda p: p[0]))
+        for step in (1, -1):
+            path, i = [i_h], i_h
+            while i != i_t:
+                i = (i + step) % n
+                path.append(i)
+            if i_toe not in path:
+                return [pts[k] for k in path]
+        raise InvalidParameter("wall.polygon", "its vertices", "a toe at (0, 0), a heel at (B, 0) and a back "
+                               "rising from the heel to the top")
 
     def virtual_back(self, beta_deg: float) -> WallBack:
         xt, yt = self.fill_top()

@@ -150,3 +150,20 @@ def test_solve_toe_and_base_and_all_formats():
     assert verify(g, F, "DA1").governing[2] == pytest.approx(1.0, abs=1e-3)
     both = solve(wall_case(heel=1.0), F, ["DA1", "DA2", "fs"], "heel")
     assert max(verify(both, F, f).governing[2] for f in ("DA1", "DA2", "fs")) == pytest.approx(1.0, abs=1e-3)
+
+
+def test_polygon_gravity_wall_equals_its_trapezoid():
+    """The same section as a polygon (either orientation) gives the same checks as the
+    trapezoid on the virtual back; and Coulomb with delta = beta on that vertical back
+    is Rankine's sloping-fill thrust (Mueller-Breslau with omega 0, delta = beta)."""
+    from analytic.design import GravityWall
+    trap = GravityWall(4.0, crest=0.6, base=2.4, back_batter=0.4)
+    poly = GravityWall(0.0, polygon=((0, 0), (2.4, 0), (2.0, 4.0), (1.4, 4.0)))
+    rev = GravityWall(0.0, polygon=((1.4, 4.0), (2.0, 4.0), (2.4, 0), (0, 0)))
+    fill, fnd = Backfill(18, 30, 0, 10), Foundation(18, 30, embedment=0.5)
+    ref = verify(DesignCase(trap, fill, fnd), F, "DA1").worst
+    for w in (poly, rev):
+        for m in (Method(), Method("coulomb", wall_friction=10.0)):
+            got = verify(DesignCase(w, fill, fnd, method=m), F, "DA1").worst
+            for k in ("sliding", "overturning", "bearing"):
+                assert got[k][1].utilisation == pytest.approx(ref[k][1].utilisation, rel=1e-9), (w, m, k)

@@ -284,6 +284,14 @@ def test_gravity_wall_water_in_front_and_uplift_by_hand():
     fs = factors_of_safety(verify(case, F, "fs"))
     assert fs["sliding"] == pytest.approx((144 + Pv - U) * math.tan(r(20)) / (Ph - Fw), rel=1e-9)
     assert fs["overturning"] == pytest.approx((M_W + Pv * 2.4 + Fw * 0.2) / (Ph * 4 / 3 + U * 0.8), rel=1e-9)
+    # bearing in effective stress: q' = 18 x 0.5 - 9.81 x 0.5, gamma' = 18 - 9.81 below the base
+    V, H = 144 + Pv - U, Ph - Fw
+    e = 1.2 - (M_W + Pv * 2.4 + Fw * 0.2 - Ph * 4 / 3 - U * 0.8) / V
+    Bp = 2.4 - 2 * abs(e)
+    t = math.tan(r(30))
+    Nq = math.exp(math.pi * t) * math.tan(r(60)) ** 2
+    q_ult = (18 - 9.81) * 0.5 * Nq * (1 - H / V) ** 2 + 0.5 * (18 - 9.81) * Bp * 2 * (Nq - 1) * t * (1 - H / V) ** 3
+    assert fs["bearing"] == pytest.approx(q_ult * Bp / V, rel=1e-9)
 
 
 def test_gravity_wall_seismic_by_hand():
