@@ -60,6 +60,7 @@ class FormatResult:
     combinations: list
     worst: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
+    fs_required: dict = field(default_factory=dict)
 
     @property
     def governing(self) -> tuple[str, str, float]:
@@ -157,13 +158,16 @@ def verify(case: DesignCase, factors: Factors, fmt: str) -> FormatResult:
             results.extend(runs)
         else:
             results.append(_evaluate_any(case, combo, ecc_limit=1 / 6 if fmt == "fs" else 1 / 3))
+    if fmt == "fs":
+        for r in results:
+            r.checks = _allowable(r.checks, factors.fs)
     worst = {}
     for r in results:
         label = r.name if r.kv == 0 else f"{r.name} (kv = {r.kv:+.4f})"
         for name, c in r.checks.items():
             if name not in worst or c.utilisation > worst[name][1].utilisation:
                 worst[name] = (label, c)
-    out = FormatResult(fmt, results, worst)
+    out = FormatResult(fmt, results, worst, fs_required=dict(factors.fs) if fmt == "fs" else {})
     if getattr(case.wall, "kind", "") == "blocks" and case.backfill is None and "FS" in factors.combinations:
         from .blocks import critical_water_height
         hw, mech, z = critical_water_height(case, factors.combinations["FS"])
@@ -172,7 +176,23 @@ def verify(case: DesignCase, factors: Factors, fmt: str) -> FormatResult:
     return out
 
 
+def _allowable(checks: dict, required: dict) -> dict:
+    """'fs' format: each resistance divided by its required factor of safety (sliding
+    1.5, overturning 2.0, bearing 3.0 by default), so utilisation = FS_required / FS and
+    the check passes at FS >= FS_required. The undrained variants take their drained
+    check's factor."""
+    from dataclasses import replace
+    out = {}
+    for name, c in checks.items():
+        fs = required.get(name.split(" ")[0])
+        out[name] = c if fs is None else replace(make_check(c.name, c.E_d, c.R_d / fs, c.note),
+                                                 note=f"{c.note}; R / FS_required {fs:g}".lstrip("; "))
+    return out
+
+
 def factors_of_safety(result: FormatResult) -> dict:
-    """Classical factors of safety R/E of the 'fs' format (inf when nothing acts)."""
-    return {name: (c.R_d / c.E_d if c.E_d > 0 else math.inf) for name, (_, c) in result.worst.items()
-            if name != "eccentricity"}
+    """Classical factors of safety R/E [-] of a result (inf when nothing acts); for the
+    'fs' format the division by the required factors is undone."""
+    req = result.fs_required
+    return {name: (c.R_d * req.get(name.split(" ")[0], 1.0) / c.E_d if c.E_d > 0 else math.inf)
+            for name, (_, c) in result.worst.items() if name != "eccentricity"}

@@ -106,7 +106,8 @@ def design_text(case: DesignCase, result: FormatResult) -> str:
         lines.append(f"  {k:22s} {c.E_d:10.2f} {c.R_d:10.2f} {c.utilisation:7.3f}  {label}")
     if result.format == "fs":
         fs = factors_of_safety(result)
-        lines.append("  factors of safety: " + ", ".join(f"{k} {v:.3f}" for k, v in fs.items()))
+        lines.append("  factors of safety: " + ", ".join(
+            f"{k} {v:.3f} (required {result.fs_required.get(k.split(' ')[0], 1.0):g})" for k, v in fs.items()))
     if result.extra.get("critical_mechanism"):
         x = result.extra
         lines.append(f"  limit equilibrium (factors 1): critical water height {x['critical_water_height_m']:.3f} m, "

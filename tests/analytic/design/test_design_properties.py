@@ -64,6 +64,14 @@ def test_base_pressure_integrates_to_V_and_e(e_over_B):
     assert q.min() >= 0
 
 
+def test_fs_format_passes_at_the_required_factors():
+    """'fs': utilisation = FS_required / FS (1.5 sliding, 2.0 overturning, 3.0 bearing)."""
+    res = verify(wall_case(), F, "fs")
+    fs = factors_of_safety(res)
+    for k, req in (("sliding", 1.5), ("overturning", 2.0), ("bearing", 3.0)):
+        assert res.worst[k][1].utilisation == pytest.approx(req / fs[k], rel=1e-12)
+
+
 @pytest.mark.parametrize("fmt", ["DA1", "DA2", "fs"])
 def test_solve_heel_gives_unit_utilisation(fmt):
     case = solve(wall_case(heel=1.0), F, fmt, "heel")
@@ -79,10 +87,11 @@ def test_seismic_at_zero_acceleration_is_the_static_check():
     seis = verify(case, F, "seismic").worst
     data = tomllib.loads(resources.files("analytic.design").joinpath("factors/ec7.toml").read_text())
     data["combinations"]["FS"]["materials"] = "SEISMIC"
-    static = verify(case, Factors.from_dict(data), "fs").worst
+    data["formats"]["static"] = ["FS"]
+    static = verify(case, Factors.from_dict(data), "static").worst
     for k in ("sliding", "overturning", "bearing"):
         assert seis[k][1].utilisation == pytest.approx(static[k][1].utilisation, rel=1e-12)
-        assert seis[k][1].utilisation > verify(case, F, "fs").worst[k][1].utilisation
+        assert seis[k][1].utilisation > 1 / factors_of_safety(verify(case, F, "fs"))[k]
 
 
 def test_seismic_kh_kv_from_en1998_5():
