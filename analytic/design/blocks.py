@@ -170,7 +170,7 @@ def evaluate_blocks(case: DesignCase, combo, *, kh: float = 0.0, kv: float = 0.0
     rows = [joint_checks(case, combo, z, kh, kv) for z in case.wall.joints()]
     out = CombinationResult(combo.name, B=case.wall.B, kh=kh, kv=kv)
     out.joints = rows
-    for name in ("sliding", "overturning"):
+    for name in ("overturning",) if combo.name == "EQU" else ("sliding", "overturning"):
         out.checks[name] = max((r[name] for r in rows), key=lambda c: c.utilisation)
     base = rows[0]
     out.V_d, out.H_d = base["V"], base["H"]

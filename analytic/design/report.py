@@ -34,7 +34,8 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
                                         if m.single_source else "each favourable or unfavourable by its own "
                                         "effect on the check"))
     out.append("passive resistance in front: " + (f"on, x {m.passive_mobilisation:g} mobilised, sliding only"
-                                                   if m.passive else "off"))
+                                                   + (", static (not reduced by the earthquake)"
+                                                      if fmt == "seismic" else "") if m.passive else "off"))
     out.append("overturning: moments about the toe; " + ("each force's net moment" if m.thrust_moment == "net"
                                                           else "the vertical thrust component restores"))
     if fnd is not None:

@@ -321,3 +321,32 @@ def test_gravity_wall_seismic_by_hand():
         return E / R
     res = verify(case, F, "seismic")
     assert res.worst["sliding"][1].utilisation == pytest.approx(max(sliding_u(0.033), sliding_u(-0.033)), rel=1e-9)
+
+
+def test_cantilever_EQU_DA1_2_DA3_by_hand():
+    """The issue-29 wall, factor by factor. M2 (and EQU materials): phi_d =
+    atan(tan 32 / 1.25) behind, tan(delta_b,d) = tan(0.6667 x 30) / 1.25 under the base.
+    EQU (Table A.1): M_dst = 1.1 Pa_d x 2 m, M_stb = 0.9 x (78.96 x 2.35 + 63.6 x 1.45
+    + 286.2 x 3.2). DA1-2 (A2 + M2 + R1): H = 1.0 Pa_d, R = 1.0 V_k tan(delta_b,d).
+    DA3 (A1 structural, A2 geotechnical, M2, R3): the same sliding numbers, since A1's
+    favourable factor is 1.0 too; its bearing with weights unfavourable takes 1.35 on the
+    concrete (78.96 + 63.6) and 1.0 on the fill."""
+    phi_d = math.atan(math.tan(math.radians(32)) / 1.25)
+    Ka_d = (1 - math.sin(phi_d)) / (1 + math.sin(phi_d))
+    Pa_d = 0.5 * Ka_d * 18 * 36
+    M_W = 78.96 * 2.35 + 63.6 * 1.45 + 286.2 * 3.2
+    equ = verify(issue_wall(), F, "EQU").worst["overturning"][1]
+    assert equ.E_d == pytest.approx(1.1 * Pa_d * 2.0, rel=1e-9)
+    assert equ.R_d == pytest.approx(0.9 * M_W, rel=1e-9)
+    tan_d = math.tan(math.radians(0.6667 * 30)) / 1.25
+    for fmt in ("DA1", "DA3"):
+        res = verify(issue_wall(), F, fmt)
+        s = [c for c in res.combinations if c.name in ("DA1-2", "DA3")][0].checks["sliding"]
+        assert s.E_d == pytest.approx(Pa_d, rel=1e-9)
+        assert s.R_d == pytest.approx(428.76 * tan_d, rel=1e-9)
+    from analytic.design.checks import factor_of
+    combo = F.combinations["DA3"]
+    forces = wall_forces(issue_wall(), combo.materials)
+    V, H, _ = resultant(forces, [factor_of(f, combo, "bearing", tan_d, False) for f in forces])
+    assert V == pytest.approx(1.35 * (78.96 + 63.6) + 1.0 * 286.2, rel=1e-9)
+    assert H == pytest.approx(1.0 * Pa_d, rel=1e-9)
