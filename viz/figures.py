@@ -354,7 +354,8 @@ def plot_wall_design(case, result, path) -> Path:
         from analytic.design.blocks import joint_forces
         forces = joint_forces(case, 0.0, unit)[0]
     else:
-        forces = wall_forces(case, unit)
+        from analytic.design.actions import passive_force
+        forces = wall_forces(case, unit) + [f for f in [passive_force(case, unit)] if f is not None]
     _water_lines(ax, case)
     scale = 0.25 * wall.H / max([abs(f.Fh) + abs(f.Fv) for f in forces] + [1.0])
     if not blocks:
@@ -372,7 +373,10 @@ def plot_wall_design(case, result, path) -> Path:
         qs = 0.15 * wall.H / max(q.max(), 1e-9)
         ax.fill_between(x, -q * qs - 0.05 * wall.H, -0.05 * wall.H, color="C2", alpha=0.4,
                         label=f"base pressure ({result.format}), max {q.max():.0f} kPa")
-        ax.axvline(wall.B / 2 - lead.e, color="C2", ls="--", lw=0.8)
+        x_R = wall.B / 2 - lead.e
+        ax.annotate("", (x_R, 0.0), (x_R + lead.H_d * scale, lead.V_d * scale),
+                    arrowprops=dict(arrowstyle="->", color="k", lw=1.6))
+        ax.plot([x_R, x_R - lead.H_d * scale], [0.0, -lead.V_d * scale], "k--", lw=0.6)
     name, combo, u = result.governing
     ax.set_title(f"{wall.kind} wall, {result.format}: governing {name} ({combo}) {u:.3f}")
     ax.set_aspect("equal")
@@ -393,17 +397,17 @@ def _water_lines(ax, case) -> None:
 
 
 def _pressure_diagram(ax, thrust, scale) -> None:
-    """Horizontal pressure of each thrust part drawn outward from the back (linear soil
-    part, uniform surcharge part), with the resultant's line of action."""
+    """Horizontal pressure of each thrust part drawn outward from the back it acts on
+    (linear soil part, uniform surcharge part), with the resultant's line of action."""
+    back = thrust.back
+    y0, H = back.y0, back.height
+    ys = np.linspace(y0, y0 + H, 41)
+    xb = np.array([back.point_at(y)[0] for y in ys])
     for p in thrust.parts:
         if p.kind == "seismic" or p.P <= 0:
             continue
-        H = 3 * p.y if p.kind == "soil" else 2 * p.y     # the back runs from y = 0 to H
-        if p.kind == "soil":
-            base_p = 2 * p.Ph / H
-            xs, ys = [p.x, p.x + base_p * scale * H / 2, p.x], [H, 0, 0]
-        else:
-            w = p.Ph / H * scale * H / 2
-            xs, ys = [p.x, p.x + w, p.x + w, p.x], [H, H, 0, 0]
-        ax.fill(xs, ys, color="C1" if p.kind == "soil" else "C4", alpha=0.3, label=f"{p.name}")
+        depth = (y0 + H - ys) / H
+        shape = 2 * depth if p.kind == "soil" else np.ones_like(ys)    # integrates to 1 over H
+        w = p.Ph / H * shape * scale * H / 2
+        ax.fill_betweenx(ys, xb, xb + w, color="C1" if p.kind == "soil" else "C4", alpha=0.3, label=p.name)
         ax.plot([p.x - p.Ph * scale, p.x], [p.y - p.Pv * scale, p.y], "C1--", lw=0.6)

@@ -72,6 +72,7 @@ class Thrust:
     direction: float
     parts: tuple[ThrustPart, ...] = field(default_factory=tuple)
     notes: str = ""
+    back: WallBack | None = None
 
     @property
     def Ph(self) -> float:
@@ -141,7 +142,7 @@ def _active_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: 
         parts.append(_part(back, "seismic increment", "seismic", ratio * static, horiz, vert, inc))
         K_total = (1 - kv) * K_AE
     return Thrust(method, K_total, K_total * horiz, math.degrees(dl), tuple(parts),
-                  notes=f"delta = {delta:g} deg on the {'virtual' if back.virtual else 'real'} back")
+                  notes=f"delta = {delta:g} deg on the {'virtual' if back.virtual else 'real'} back", back=back)
 
 
 def _part(back: WallBack, name: str, kind: str, P: float, horiz: float, vert: float,
