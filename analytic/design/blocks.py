@@ -186,16 +186,18 @@ def evaluate_blocks(case: DesignCase, combo, *, kh: float = 0.0, kv: float = 0.0
     return out
 
 
-def critical_water_height(case: DesignCase, combo, tol: float = 1e-6) -> tuple[float, str, float]:
+def critical_water_height(case: DesignCase, combo, tol: float = 1e-6,
+                          mechanisms: tuple = ("sliding", "overturning")) -> tuple[float, str, float]:
     """Water level h_w [m] above the toe at which the worst joint reaches utilisation 1
-    (bisection on [0, h]); returns (h_w, mechanism, joint z). h_w = inf if the wall
-    stands with water up to its crest."""
+    in one of ``mechanisms`` (bisection on [0, h]); returns (h_w, mechanism, joint z).
+    h_w = inf if the wall stands with water up to its crest (water cannot rise higher
+    against it)."""
     from .case import Water
 
     def worst(hw):
         c = replace(case, water=Water(behind=hw))
         rows = [joint_checks(c, combo, z) for z in case.wall.joints()]
-        best = max(((r[m].utilisation, m, r["z"]) for r in rows for m in ("sliding", "overturning")))
+        best = max(((r[m].utilisation, m, r["z"]) for r in rows for m in mechanisms))
         return best
     if worst(case.wall.height)[0] < 1.0:
         return math.inf, "", math.nan
