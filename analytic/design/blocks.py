@@ -13,7 +13,10 @@ For the part above a joint:
 * loads on the moving part's inner face only: water from y_I up to the water level
   h_w (H = gamma_w (h_w - y_I)^2 / 2 at a third, V = H tan(lambda2)), or the fill's
   Coulomb thrust above y_I (``earth.design_thrust`` on the real back). Dry joints drain:
-  no uplift in the joints. Staircase mechanisms through head joints are not checked.
+  no uplift in the joints.
+* with ``stair_slope`` m > 0 toppling is also tried about lines from O rising inward at
+  theta in [-alpha, atan(m) - alpha] through head and bed joints (drystone-walls.md 5.5,
+  a pure opening that costs nothing); m = 0 keeps the bed joints only.
 Units kN/m3, m, degrees, kN/m.
 """
 
@@ -21,6 +24,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+
+from scipy.optimize import minimize_scalar
 
 from ..errors import InvalidParameter
 from ..inputs import require_number
@@ -37,7 +42,10 @@ class BlockWall:
     """height h, base b [m]; front_batter lambda1, back_batter lambda2 [deg] (faces'
     angles from vertical, both leaning toward the other face as they rise); courses n;
     joint_slope alpha [deg] (counter-slope toward the fill); joint_friction phi_b [deg];
-    unit_weight of the masonry [kN/m3]."""
+    unit_weight of the masonry [kN/m3]; stair_slope m = 2 h_block / l_block of a
+    half-overlap bond (0: toppling about bed joints only; > 0: also about lines stepping
+    through head joints, rising inward at theta in [-alpha, atan(m) - alpha],
+    drystone-walls.md 5.5)."""
 
     height: float
     base: float
@@ -47,6 +55,7 @@ class BlockWall:
     joint_slope: float = 0.0
     joint_friction: float = 35.0
     unit_weight: float = 22.0
+    stair_slope: float = 0.0
     kind = "blocks"
 
     def __post_init__(self):
@@ -57,6 +66,7 @@ class BlockWall:
         require_number("wall.joint_slope", self.joint_slope, -45.0, 45.0, unit="deg")
         require_number("wall.joint_friction", self.joint_friction, 0.0, 90.0, unit="deg")
         require_number("wall.unit_weight", self.unit_weight, 0.0, None, unit="kN/m3")
+        require_number("wall.stair_slope", self.stair_slope, 0.0, 10.0, lo_open=False)
         if isinstance(self.courses, bool) or not isinstance(self.courses, int) or self.courses < 1:
             raise InvalidParameter("wall.courses", self.courses, "an integer >= 1")
         if self.crest <= 0:
@@ -94,11 +104,14 @@ class BlockWall:
         """Heights z_k [m] where the bed joints leave the outer face (z_0 = 0: the base)."""
         return [k * self.height / self.courses for k in range(self.courses)]
 
-    def above(self, z: float) -> tuple[list, float]:
-        """The part above the joint through (x_o(z), z), and y_I [m]."""
-        ta, t2 = math.tan(math.radians(self.joint_slope)), math.tan(math.radians(self.back_batter))
-        poly = clip_above(self.section(), (self.x_o(z), z), -ta)
-        y_I = (z - (self.base - self.x_o(z)) * ta) / (1 - t2 * ta)
+    def above(self, z: float, slope: float | None = None) -> tuple[list, float]:
+        """The part above the line through (x_o(z), z) with dy/dx = slope (default the
+        bed joint, -tan alpha), and where that line meets the inner face, y_I [m]:
+        y_I = [z + (b - x_o(z)) s] / (1 + tan(lambda2) s)."""
+        s = -math.tan(math.radians(self.joint_slope)) if slope is None else slope
+        t2 = math.tan(math.radians(self.back_batter))
+        poly = clip_above(self.section(), (self.x_o(z), z), s)
+        y_I = (z + (self.base - self.x_o(z)) * s) / (1 + t2 * s)
         return poly, y_I
 
     def parts(self) -> list[Part]:
@@ -114,10 +127,11 @@ class BlockWall:
 
 
 def joint_forces(case: DesignCase, z: float, materials: dict, kh: float = 0.0,
-                 kv: float = 0.0) -> tuple[list[Force], float]:
-    """Forces on the part above the joint at z: weight, inertia, water or fill thrust."""
+                 kv: float = 0.0, slope: float | None = None) -> tuple[list[Force], float]:
+    """Forces on the part above the joint at z (or above the line of ``slope`` from the
+    joint's outer edge): weight, inertia, water or fill thrust."""
     wall = case.wall
-    poly, y_I = wall.above(z)
+    poly, y_I = wall.above(z, slope)
     A, xg, yg = area_centroid(poly)
     W = A * wall.unit_weight
     out = [Force("masonry above joint", "G", "structural", 0.0, W, xg, yg)]
@@ -144,7 +158,8 @@ def _shift(forces: list[Force], x0: float, y0: float) -> list[Force]:
 
 
 def joint_checks(case: DesignCase, combo, z: float, kh: float = 0.0, kv: float = 0.0) -> dict:
-    """Sliding and toppling utilisation of the part above the joint at z."""
+    """Sliding along the bed joint at z and toppling about its outer edge (over the
+    stepped lines too when ``stair_slope`` > 0): utilisations of the part above."""
     wall, mats = case.wall, combo.materials
     forces, y_I = joint_forces(case, z, mats, kh, kv)
     local = _shift(forces, wall.x_o(z), z)
@@ -155,10 +170,37 @@ def joint_checks(case: DesignCase, combo, z: float, kh: float = 0.0, kv: float =
     V, H, _ = resultant(local, g_s)
     slide = make_check("sliding", H, V * tan_r if math.isfinite(tan_r) else math.inf,
                        f"bed joint at z = {z:.3f} m, tan(alpha + phi_b,d)")
-    g_o = [factor_of(f, combo, "overturning", 0.0, ss) for f in local]
-    dst, stb = overturning_moments(local, g_o, net=case.method.thrust_moment == "net")
-    topple = make_check("overturning", dst, stb, f"toppling about the outer edge of the joint at z = {z:.3f} m")
+    topple = _topple_worst(case, combo, z, kh, kv, ss)
     return {"z": z, "y_I": y_I, "sliding": slide, "overturning": topple, "V": V, "H": H}
+
+
+def _topple(case: DesignCase, combo, z: float, theta: float, kh: float, kv: float, ss: bool):
+    """Toppling about (x_o(z), z) of the part above the line rising inward at theta [deg]."""
+    wall = case.wall
+    forces, _ = joint_forces(case, z, combo.materials, kh, kv, slope=math.tan(math.radians(theta)))
+    local = _shift(forces, wall.x_o(z), z)
+    g = [factor_of(f, combo, "overturning", 0.0, ss) for f in local]
+    dst, stb = overturning_moments(local, g, net=case.method.thrust_moment == "net")
+    return make_check("overturning", dst, stb, f"toppling about the outer edge of the joint at z = {z:.3f} m, "
+                                               f"line at theta = {theta:.2f} deg")
+
+
+def _topple_worst(case: DesignCase, combo, z: float, kh: float, kv: float, ss: bool):
+    """The bed joint (theta = -alpha) or, with stair_slope m > 0, the worst line over
+    theta in [-alpha, atan(m) - alpha] (a 17-point grid refined by a bounded search)."""
+    wall = case.wall
+    lo = -wall.joint_slope
+    if wall.stair_slope <= 0:
+        return _topple(case, combo, z, lo, kh, kv, ss)
+    hi = math.degrees(math.atan(wall.stair_slope)) - wall.joint_slope
+    grid = [lo + (hi - lo) * k / 16 for k in range(17)]
+    checks = [_topple(case, combo, z, t, kh, kv, ss) for t in grid]
+    k = max(range(17), key=lambda i: checks[i].utilisation)
+    a, b = grid[max(k - 1, 0)], grid[min(k + 1, 16)]
+    res = minimize_scalar(lambda t: -_topple(case, combo, z, t, kh, kv, ss).utilisation, bounds=(a, b),
+                          method="bounded", options={"xatol": 1e-4})
+    best = _topple(case, combo, z, float(res.x), kh, kv, ss)
+    return best if best.utilisation > checks[k].utilisation else checks[k]
 
 
 def evaluate_blocks(case: DesignCase, combo, *, kh: float = 0.0, kv: float = 0.0,

@@ -15,7 +15,7 @@ WALL_KEYS = {
                    "back_batter", "key_depth", "key_width", "key_x"},
     "gravity": {"height", "crest", "base", "back_batter", "unit_weight", "polygon"},
     "blocks": {"height", "base", "front_batter", "back_batter", "courses", "joint_slope", "joint_friction",
-               "unit_weight"},
+               "unit_weight", "stair_slope"},
 }
 TABLES = {"backfill": (Backfill, {"gamma", "phi", "c", "beta"}),
           "foundation": (Foundation, {"gamma", "phi", "c", "base_friction_ratio", "base_friction_angle",

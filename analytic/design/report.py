@@ -22,7 +22,9 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
     blocks = getattr(case.wall, "kind", "") == "blocks"
     if blocks:
         out.append("block wall: sliding along and toppling about the outer edge of every bed joint; "
-                   "loads on the moving part's inner face only; no uplift in dry joints; no staircase mechanisms")
+                   "loads on the moving part's inner face only; no uplift in dry joints; "
+                   + (f"toppling lines also step through head joints up to atan({case.wall.stair_slope:g})"
+                      if case.wall.stair_slope > 0 else "no stepped toppling lines (stair_slope = 0)"))
         if case.backfill is not None:
             out.append("fill: Coulomb on the inner face above each joint, delta = wall_friction or 2/3 phi")
     else:
