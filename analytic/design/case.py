@@ -32,8 +32,8 @@ class Foundation:
     neglects it); embedment [m] of the base underside below the ground in front
     (overburden q' = gamma x embedment); cu [kPa]: adds the undrained checks."""
 
-    gamma: float = 18.0
-    phi: float = 30.0
+    gamma: float
+    phi: float
     c: float = 0.0
     base_friction_ratio: float = 2.0 / 3.0
     base_friction_angle: float | None = None
