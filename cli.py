@@ -171,6 +171,112 @@ def _cmd_dsm(args) -> int:
     return 0
 
 
+def _add_design(sub):
+    p = sub.add_parser("design", help="design checks of a retaining wall (EN 1997-1, EN 1998-5, factors of safety)",
+                       description="Sliding, overturning, bearing and eccentricity of a cantilever, gravity or "
+                                   "block wall described in WALL.toml; --solve sizes the toe, heel or base.")
+    p.add_argument("wall_file", metavar="WALL.toml", help="wall, backfill, foundation, loads, method tables")
+    p.add_argument("--format", choices=["DA1", "DA2", "DA3", "EQU", "fs", "seismic", "all"], default="DA1",
+                   help="verification format (DA1)")
+    p.add_argument("--solve", choices=["toe", "heel", "base"], default=None,
+                   help="find the smallest toe, heel or base width passing every check of the format")
+    p.add_argument("--factors", metavar="FACTORS.toml", default=None,
+                   help="partial factors replacing the EN 1997-1 Annex A table (same layout)")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the wall, pressures, forces and base pressure")
+    p.set_defaults(func=_cmd_design)
+
+
+def _read_toml(path: str, name: str) -> dict:
+    import tomllib
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except OSError as err:
+        raise InvalidParameter(name, path, "a readable TOML file", err.strerror or str(err)) from None
+    except tomllib.TOMLDecodeError as err:
+        raise InvalidParameter(name, path, "a valid TOML file", str(err)) from None
+
+
+def _cmd_design(args) -> int:
+    from analytic.design.config import case_from_dict
+    from analytic.design.factors import Factors, load_factors
+    from analytic.design.formats import verify
+    from analytic.design.report import design_json, design_text
+    from analytic.design.sizing import solve
+
+    case = case_from_dict(_read_toml(args.wall_file, "WALL.toml"))
+    factors = Factors.from_dict(_read_toml(args.factors, "--factors")) if args.factors else load_factors()
+    fmts = ["DA1", "DA2", "DA3", "EQU", "fs", "seismic"] if args.format == "all" else [args.format]
+    if args.format == "all" and case.seismic.kh == 0:
+        fmts.remove("seismic")
+    if args.solve:
+        case = solve(case, factors, fmts, args.solve)
+    results = {f: verify(case, factors, f) for f in fmts}
+    if args.solve:
+        check, combo, u = max((r.governing for r in results.values()), key=lambda g: g[2])
+        print(f"solved {args.solve} = {_solved(case.wall, args.solve):.4f} m (B = {case.wall.B:.4f} m); "
+              f"governing: {check} ({combo}), utilisation {u:.4f}", file=sys.stderr)
+    out = {f: design_json(case, r, factors.fs if f == "fs" else None) for f, r in results.items()}
+    if args.json:
+        print(json.dumps(out[fmts[0]] if len(fmts) == 1 else out, indent=2))
+    else:
+        print("\n\n".join(design_text(case, r) for r in results.values()))
+    if args.plot:
+        from viz.figures import plot_wall_design
+        plot_wall_design(case, results[fmts[0]], args.plot)
+        print(f"wrote {args.plot}", file=sys.stderr)
+    return 0
+
+
+def _solved(wall, name: str) -> float:
+    return wall.B if name == "base" else getattr(wall, name)
+
+
+def _length_or_inf(text: str) -> float:
+    if text.strip().lower() in ("inf", "strip"):
+        return float("inf")
+    return _number("L", 0, None, unit="m")(text)
+
+
+def _add_bearing(sub):
+    p = sub.add_parser("bearing", help="bearing resistance of a footing (EN 1997-1 Annex D or Vesic)",
+                       description="Drained bearing resistance under an inclined, eccentric load. "
+                                   "V and H per metre for a strip (L = inf), totals otherwise.")
+    p.add_argument("--phi", type=_number("phi", 0, 50, hi_open=False, unit="deg"), required=True,
+                   help="friction angle [deg], (0, 50]")
+    p.add_argument("--c", type=_number("c", 0, None, lo_open=False, unit="kPa"), default=0.0, help="c' [kPa] (0)")
+    p.add_argument("--gamma", type=_number("gamma", 0, None, unit="kN/m3"), required=True,
+                   help="unit weight below the base [kN/m3]")
+    p.add_argument("--q", type=_number("q", 0, None, lo_open=False, unit="kPa"), default=0.0,
+                   help="overburden at base level [kPa] (0)")
+    p.add_argument("--B", type=_number("B", 0, None, unit="m"), required=True, help="width [m]")
+    p.add_argument("--L", type=_length_or_inf, default=float("inf"), help="length [m] or inf (strip, default)")
+    p.add_argument("--e", type=_number("e", None, None, unit="m"), default=0.0, help="eccentricity along B [m] (0)")
+    p.add_argument("--V", type=_number("V", 0, None, unit="kN"), required=True, help="vertical load [kN or kN/m]")
+    p.add_argument("--H", type=_number("H", 0, None, lo_open=False, unit="kN"), default=0.0,
+                   help="horizontal load along B [kN or kN/m] (0)")
+    p.add_argument("--method", choices=["ec7", "vesic"], default="ec7", help="factors (ec7)")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=_cmd_bearing)
+
+
+def _cmd_bearing(args) -> int:
+    from analytic.design.bearing import bearing_resistance
+    from analytic.design.report import bearing_json
+
+    b = bearing_resistance(phi=args.phi, c=args.c, gamma=args.gamma, q=args.q, B=args.B, L=args.L, e=args.e,
+                           V=args.V, H=args.H, method=args.method)
+    out = bearing_json(b)
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return 0
+    unit = "kN/m" if b.L_eff == float("inf") else "kN"
+    print(f"bearing ({b.method}): q_ult = {b.q_ult:.1f} kPa, R = {b.R:.1f} {unit}, B' = {b.B_eff:.3f} m")
+    print("  " + ", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k}: {v}" for k, v in b.factors.items()))
+    return 0
+
+
 def _is_float(text: str) -> bool:
     try:
         float(text)
@@ -366,6 +472,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_theory(sub)
     _add_dsm(sub)
+    _add_design(sub)
+    _add_bearing(sub)
     _add_studies(sub)
     _add_keys(sub)
     _add_bench(sub)

@@ -354,3 +354,83 @@ def plot_displacement_field(start, end, path, *, axes=(0, 2), cell: float = 0.2,
     ax.set_ylabel("z [m]" if j == 2 else "y [m]")
     ax.set_title(title or f"grain displacements (x{magnify:g}), mean per {cell:g} m cell")
     return _finish(fig, path)
+
+
+def plot_wall_design(case, result, path) -> Path:
+    """A wall design check to scale (analytic.design): the wall and the fill moving with
+    it, the horizontal earth-pressure diagram on the back, every characteristic force as
+    an arrow on its line of action, the design resultant and the base pressure
+    distribution (kPa, drawn below the base) of the combination heading ``result``."""
+    from analytic.design.actions import thrust_for, uses_virtual_back, wall_forces
+    from analytic.design.checks import base_pressure
+    from analytic.design.report import _lead
+
+    wall, unit = case.wall, {"phi": 1.0, "c": 1.0, "cu": 1.0, "gamma": 1.0}
+    blocks = wall.kind == "blocks"
+    fig, ax = plt.subplots(figsize=(7, 7))
+    parts = list(wall.parts())
+    if not blocks and uses_virtual_back(case):
+        parts += wall.fill_parts(case.backfill.beta, case.backfill.gamma)
+    for p in parts:
+        ax.fill(*zip(*p.polygon), color="0.7" if p.source == "structural" else "wheat", ec="k", lw=0.8)
+    if blocks:
+        from analytic.design.blocks import joint_forces
+        forces = joint_forces(case, 0.0, unit)[0]
+    else:
+        from analytic.design.actions import passive_force
+        forces = wall_forces(case, unit) + [f for f in [passive_force(case, unit)] if f is not None]
+    _water_lines(ax, case)
+    scale = 0.25 * wall.H / max([abs(f.Fh) + abs(f.Fv) for f in forces] + [1.0])
+    if not blocks:
+        _pressure_diagram(ax, thrust_for(case, unit), scale)
+    else:
+        for z in wall.joints():
+            y_I = wall.above(z)[1]
+            ax.plot([wall.x_o(z), wall.x_i(y_I)], [z, y_I], "k:", lw=0.6)
+    for f in forces:
+        ax.annotate("", (f.x, f.y), (f.x + f.Fh * scale, f.y + f.Fv * scale),
+                    arrowprops=dict(arrowstyle="->", color="C3" if f.Fh else "C0", lw=1.2))
+    lead = _lead(result)
+    if not blocks and lead.V_d > 0 and abs(lead.e) < wall.B / 2:
+        x, q = base_pressure(lead.V_d, lead.e, wall.B)
+        qs = 0.15 * wall.H / max(q.max(), 1e-9)
+        ax.fill_between(x, -q * qs - 0.05 * wall.H, -0.05 * wall.H, color="C2", alpha=0.4,
+                        label=f"base pressure ({result.format}), max {q.max():.0f} kPa")
+        x_R = wall.B / 2 - lead.e
+        ax.annotate("", (x_R, 0.0), (x_R + lead.H_d * scale, lead.V_d * scale),
+                    arrowprops=dict(arrowstyle="->", color="k", lw=1.6))
+        ax.plot([x_R, x_R - lead.H_d * scale], [0.0, -lead.V_d * scale], "k--", lw=0.6)
+    name, combo, u = result.governing
+    ax.set_title(f"{wall.kind} wall, {result.format}: governing {name} ({combo}) {u:.3f}")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x from the toe [m]")
+    ax.set_ylabel("y above the base underside [m]")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="upper left", fontsize=8)
+    return _finish(fig, path)
+
+
+def _water_lines(ax, case) -> None:
+    """Free-water levels in front and behind the wall (blue lines)."""
+    B = case.wall.B
+    if case.water.front > 0:
+        ax.plot([-0.3 * B, 0.0], [case.water.front] * 2, color="C9", lw=1.5, label="water in front")
+    if case.water.behind > 0:
+        ax.plot([B, 1.4 * B], [case.water.behind] * 2, color="C9", lw=1.5, label="water behind")
+
+
+def _pressure_diagram(ax, thrust, scale) -> None:
+    """Horizontal pressure of each thrust part drawn outward from the back it acts on
+    (linear soil part, uniform surcharge part), with the resultant's line of action."""
+    back = thrust.back
+    y0, H = back.y0, back.height
+    ys = np.linspace(y0, y0 + H, 41)
+    xb = np.array([back.point_at(y)[0] for y in ys])
+    for p in thrust.parts:
+        if p.kind == "seismic" or p.P <= 0:
+            continue
+        depth = (y0 + H - ys) / H
+        shape = 2 * depth if p.kind == "soil" else np.ones_like(ys)    # integrates to 1 over H
+        w = p.Ph / H * shape * scale * H / 2
+        ax.fill_betweenx(ys, xb, xb + w, color="C1" if p.kind == "soil" else "C4", alpha=0.3, label=p.name)
+        ax.plot([p.x - p.Ph * scale, p.x], [p.y - p.Pv * scale, p.y], "C1--", lw=0.6)

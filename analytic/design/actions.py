@@ -1,0 +1,125 @@
+"""Actions on a cantilever or gravity wall, as forces with points of application.
+
+``wall_forces(case, materials, kh, kv)`` lists every force for one set of material
+factors (the thrust depends on phi_d) and seismic coefficients: self-weight of each
+part, the fill moving with the wall, the earth thrust parts (``earth.design_thrust``),
+surcharge on the fill over the heel, water in front, uplift, wall and fill inertia, and
+passive resistance in front (only if switched on; it enters sliding only).
+
+Signs (per metre run): Fh > 0 pushes the wall toward the front, Fv > 0 acts downward;
+(x, y) from the toe and the base underside [m]. ``kind``: 'G' permanent, 'Q' variable,
+'E' seismic inertia (never factored), 'P' passive resistance (factored as a resistance).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .case import GAMMA_W, DesignCase, design_angle
+from .earth import Backfill, Thrust, design_thrust, passive_resistance
+
+
+@dataclass(frozen=True)
+class Force:
+    """One force [kN/m] at (x, y) [m]; kind 'G', 'Q', 'E' or 'P'; source 'structural' or
+    'geotechnical' (DA3 factors them with A1 and A2)."""
+
+    name: str
+    kind: str
+    source: str
+    Fh: float
+    Fv: float
+    x: float
+    y: float
+
+
+def design_backfill(fill: Backfill, materials: dict) -> Backfill:
+    """The fill with phi_d = atan(tan phi / gamma_phi), gamma / gamma_gamma (c stays 0)."""
+    return Backfill(fill.gamma / materials["gamma"], design_angle(fill.phi, materials["phi"]),
+                    fill.c / materials["c"], fill.beta)
+
+
+def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0.0) -> Thrust:
+    """The thrust on the wall's virtual back ('rankine-virtual-back', or 'coulomb' on a
+    cantilever or polygon wall) or real back ('coulomb' on a trapezoidal gravity wall)."""
+    wall, fill, m = case.wall, design_backfill(case.backfill, materials), case.method
+    real = m.earth_pressure == "coulomb" and wall.kind == "gravity" and wall.polygon is None
+    back = wall.real_back() if real else wall.virtual_back(fill.beta)
+    delta = m.wall_friction
+    if delta is None and real:
+        delta = 2.0 / 3.0 * fill.phi
+    elif delta is not None and real:
+        delta = min(delta, fill.phi)
+    return design_thrust(fill, back, m.earth_pressure, q=case.loads.surcharge, delta=delta, kh=kh, kv=kv,
+                         increment_height=case.seismic.increment_height)
+
+
+def uses_virtual_back(case: DesignCase) -> bool:
+    w = case.wall
+    return not (case.method.earth_pressure == "coulomb" and w.kind == "gravity" and w.polygon is None)
+
+
+def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0.0) -> list[Force]:
+    """Every force on a cantilever or gravity wall (see the module docstring)."""
+    wall, fill = case.wall, case.backfill
+    solids = list(wall.parts())
+    if uses_virtual_back(case):
+        solids += wall.fill_parts(fill.beta, fill.gamma / materials["gamma"])
+    out = []
+    for p in solids:
+        (x, y), W = p.centroid, p.weight
+        out.append(Force(p.name, "G", p.source, 0.0, W, x, y))
+        if kh > 0 or kv != 0:
+            out.append(Force(p.name + " inertia", "E", p.source, kh * W, -kv * W, x, y))
+    out += thrust_forces(thrust_for(case, materials, kh, kv), case.loads.surcharge_permanent)
+    out += _surcharge_on_heel(case, "G" if case.loads.surcharge_permanent else "Q")
+    out += _water(case)
+    return out
+
+
+def thrust_forces(thrust: Thrust, surcharge_permanent: bool) -> list[Force]:
+    """The thrust parts as forces: soil 'G', surcharge 'Q' (or 'G'), seismic 'E'."""
+    kinds = {"soil": "G", "surcharge": "G" if surcharge_permanent else "Q", "seismic": "E"}
+    return [Force(t.name, kinds[t.kind], "geotechnical", t.Ph, t.Pv, t.x, t.y) for t in thrust.parts]
+
+
+def _surcharge_on_heel(case: DesignCase, kind: str) -> list[Force]:
+    """The surcharge over the fill that moves with the wall (virtual back only)."""
+    q = case.loads.surcharge
+    if q <= 0 or not uses_virtual_back(case):
+        return []
+    xt, yt = case.wall.fill_top()
+    width = case.wall.B - xt
+    if width <= 0:
+        return []
+    return [Force("surcharge on heel", kind, "geotechnical", 0.0, q * width, xt + width / 2, yt)]
+
+
+def _water(case: DesignCase) -> list[Force]:
+    """Water in front (hydrostatic, pushing back) and uplift under the base, linear from
+    gamma_w h_front at the toe to gamma_w h_behind at the heel."""
+    hf, hb, B = case.water.front, case.water.behind, case.wall.B
+    out = []
+    if hf > 0:
+        out.append(Force("water in front", "G", "geotechnical", -0.5 * GAMMA_W * hf * hf, 0.0, 0.0, hf / 3))
+    pf, pb = GAMMA_W * hf, GAMMA_W * hb
+    if pf + pb > 0:
+        U = 0.5 * (pf + pb) * B
+        x = B * (pf + 2 * pb) / (3 * (pf + pb))
+        out.append(Force("uplift", "G", "geotechnical", 0.0, -U, x, 0.0))
+    return out
+
+
+def passive_force(case: DesignCase, materials: dict) -> Force | None:
+    """Passive resistance in front over the embedment (plus a shear key), with design
+    phi_d and c_d, times the mobilisation factor; None when switched off."""
+    m, f = case.method, case.foundation
+    key = getattr(case.wall, "key_depth", 0.0)
+    depth = f.embedment + key
+    if not m.passive or depth <= 0:
+        return None
+    soil = Backfill(f.gamma / materials["gamma"], design_angle(f.phi, materials["phi"]), f.c / materials["c"])
+    t = passive_resistance(soil, depth, 0.0)
+    Pp = m.passive_mobilisation * sum(p.P for p in t.parts)
+    y = sum(p.P * p.y for p in t.parts) / sum(p.P for p in t.parts) - key
+    return Force("passive resistance", "P", "geotechnical", -Pp, 0.0, 0.0, y)

@@ -1,0 +1,128 @@
+"""Pure formatting of design results: the JSON dict and the text report (no printing).
+
+Every output states the conventions it followed (``conventions``)."""
+
+from __future__ import annotations
+
+import math
+
+from .case import DesignCase
+from .formats import FormatResult, factors_of_safety
+
+
+def _num(x: float):
+    """JSON-safe number: non-finite values become null."""
+    return float(x) if math.isfinite(x) else None
+
+
+def conventions(case: DesignCase, fmt: str) -> list[str]:
+    """The conventions a result followed, one sentence each."""
+    m, fnd = case.method, case.foundation
+    out = []
+    blocks = getattr(case.wall, "kind", "") == "blocks"
+    if blocks:
+        out.append("block wall: sliding along and toppling about the outer edge of every bed joint; "
+                   "loads on the moving part's inner face only; no uplift in dry joints; "
+                   + (f"toppling lines also step through head joints up to atan({case.wall.stair_slope:g})"
+                      if case.wall.stair_slope > 0 else "no stepped toppling lines (stair_slope = 0)"))
+        if case.backfill is not None:
+            out.append("fill: Coulomb on the inner face above each joint, delta = wall_friction or 2/3 phi")
+    else:
+        out.append(f"earth pressure: {m.earth_pressure}, on the "
+                   + ("real back" if m.earth_pressure == "coulomb" and case.wall.kind == "gravity"
+                      and case.wall.polygon is None else "virtual back through the heel (fill above the heel "
+                      "moves with the wall)"))
+    out.append("permanent actions: " + ("single source, every one x gamma_G,unfav (EN 1997-1 2.4.2(9)P Note 1)"
+                                        if m.single_source else "each favourable or unfavourable by its own "
+                                        "effect on the check"))
+    out.append("passive resistance in front: " + (f"on, x {m.passive_mobilisation:g} mobilised, sliding only"
+                                                   + (", static (not reduced by the earthquake)"
+                                                      if fmt == "seismic" else "") if m.passive else "off"))
+    out.append("overturning: moments about the toe; " + ("each force's net moment" if m.thrust_moment == "net"
+                                                          else "the vertical thrust component restores"))
+    if fnd is not None:
+        out.append("bearing: EN 1997-1 Annex D, B' = B - 2e, load inclined along B, no depth factors "
+                   "(Annex D has none)" + ("; the base's counter-slope neglected" if blocks else "")
+                   + ("; effective q' and gamma' under water" if case.water.front > 0 else ""))
+        out.append("eccentricity: " + ("middle third, e <= B/6" if fmt == "fs" else
+                                       "middle two thirds, e <= B/3 (EN 1997-1 6.5.4)"))
+    if fmt == "seismic":
+        s = case.seismic
+        out.append(f"seismic (EN 1998-5 7.3.2.2): kh = alpha S / r = {s.kh:.4g}, kv = +-{s.kv:.4g}; "
+                   f"Mononobe-Okabe, dynamic increment at {s.increment_height:g} H, static part at H/3")
+    if fnd is not None:
+        out.append(f"base friction delta_b = {fnd.delta_b:.4g} deg, tan(delta_b,d) = tan(delta_b) / gamma_phi")
+    return out
+
+
+def _check_json(label: str, c) -> dict:
+    return {"E_d": _num(c.E_d), "R_d": _num(c.R_d), "utilisation": _num(c.utilisation),
+            "combination": label, "note": c.note}
+
+
+def _lead(result: FormatResult):
+    """The combination whose values head the output: the one governing bearing (or the
+    worst overall)."""
+    key = "bearing" if "bearing" in result.worst else result.governing[0]
+    label = result.worst[key][0]
+    for r in result.combinations:
+        if label.startswith(r.name) and (r.kv == 0 or f"{r.kv:+.4f}" in label):
+            return r
+    return result.combinations[0]
+
+
+def design_json(case: DesignCase, result: FormatResult, fs_required: dict | None = None) -> dict:
+    """The JSON of one format (keys of issue 29; 'fs' adds the factors of safety)."""
+    lead = _lead(result)
+    out = {"format": result.format, "wall": case.wall.kind, "B_m": lead.B}
+    if result.format == "fs":
+        fs = factors_of_safety(result)
+        out["fs"] = {k: _num(v) for k, v in fs.items()}
+        out.update({"V_kN_per_m": lead.V_d, "H_kN_per_m": lead.H_d})
+        if fs_required:
+            out["fs_required"] = fs_required
+    base = "bearing" in result.worst
+    out.update({"V_d_kN_per_m": lead.V_d, "H_d_kN_per_m": lead.H_d, "e_m": _num(lead.e) if base else None,
+                "B_eff_m": lead.B_eff if base else None, "q_ult_kPa": lead.q_ult if base else None,
+                "Ka": lead.K if lead.K else None})
+    out["checks"] = {k: _check_json(label, c) for k, (label, c) in result.worst.items()}
+    name, combo, u = result.governing
+    out["governing"] = {"check": name, "combination": combo, "utilisation": _num(u), "passes": u <= 1.0}
+    joints = getattr(lead, "joints", None)
+    if joints:
+        out["joints"] = [{"z_m": r["z"], "y_I_m": r["y_I"], "sliding": _num(r["sliding"].utilisation),
+                          "overturning": _num(r["overturning"].utilisation)} for r in joints]
+    out.update(result.extra)
+    out["conventions"] = conventions(case, result.format)
+    return out
+
+
+def design_text(case: DesignCase, result: FormatResult) -> str:
+    """A plain-text table of the checks, the governing one and the conventions."""
+    lead = _lead(result)
+    lines = [f"{case.wall.kind} wall, B = {lead.B:.3f} m, format {result.format}",
+             f"  V_d = {lead.V_d:.2f} kN/m  H_d = {lead.H_d:.2f} kN/m" + (
+                 f"  e = {lead.e:.3f} m  B' = {lead.B_eff:.3f} m  q_ult = {lead.q_ult:.1f} kPa  K = {lead.K:.4f}"
+                 if "bearing" in result.worst else "  (at the base joint; no foundation given)"),
+             f"  {'check':22s} {'E_d':>10s} {'R_d':>10s} {'util.':>7s}  combination"]
+    for k, (label, c) in result.worst.items():
+        lines.append(f"  {k:22s} {c.E_d:10.2f} {c.R_d:10.2f} {c.utilisation:7.3f}  {label}")
+    if result.format == "fs":
+        fs = factors_of_safety(result)
+        lines.append("  factors of safety: " + ", ".join(
+            f"{k} {v:.3f} (required {result.fs_required.get(k.split(' ')[0], 1.0):g})" for k, v in fs.items()))
+    if result.extra.get("critical_mechanism"):
+        x = result.extra
+        lines.append(f"  limit equilibrium (factors 1): critical water height {x['critical_water_height_m']:.3f} m, "
+                     f"{x['critical_mechanism']} at the joint z = {x['critical_joint_z_m']:.3f} m")
+    name, combo, u = result.governing
+    lines.append(f"  governing: {name} ({combo}), utilisation {u:.3f} -> {'passes' if u <= 1 else 'FAILS'}")
+    lines += ["  conventions:"] + [f"   - {c}" for c in conventions(case, result.format)]
+    return "\n".join(lines)
+
+
+def bearing_json(b) -> dict:
+    """JSON of ``wallsim bearing``."""
+    f = {k: (_num(v) if isinstance(v, float) else v) for k, v in b.factors.items()}
+    return {"q_ult_kPa": b.q_ult, "R_kN": b.R, "B_eff_m": b.B_eff, "L_eff_m": _num(b.L_eff),
+            "method": b.method, "factors": f}
