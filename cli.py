@@ -84,7 +84,7 @@ def _cmd_theory(args) -> int:
     from analytic.summary import theory_table
     from studies.report import theory_json, theory_text
 
-    from analytic.design import theory_loads, theory_ground
+    from analytic.ground import theory_loads, theory_ground
 
     soil = Soil(args.phi, args.gamma * 1e3)
     wall = Wall(args.H, args.delta, args.omega, args.beta, args.q * 1e3)
@@ -116,8 +116,12 @@ def _read_toml(name: str, path: str) -> dict:
     try:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
-    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
-        raise InvalidParameter(name, path, "a readable TOML file", type(err).__name__) from None
+    except OSError as err:
+        raise InvalidParameter(name, path, "a readable TOML file", err.strerror or type(err).__name__) from None
+    except UnicodeDecodeError:
+        raise InvalidParameter(name, path, "a readable TOML file", "not text") from None
+    except tomllib.TOMLDecodeError as err:
+        raise InvalidParameter(name, path, "a valid TOML file", str(err).splitlines()[0]) from None
 
 
 def _add_dsm(sub):
@@ -187,16 +191,6 @@ def _add_design(sub):
     p.set_defaults(func=_cmd_design)
 
 
-def _read_toml(path: str, name: str) -> dict:
-    import tomllib
-    try:
-        with open(path, "rb") as fh:
-            return tomllib.load(fh)
-    except OSError as err:
-        raise InvalidParameter(name, path, "a readable TOML file", err.strerror or str(err)) from None
-    except tomllib.TOMLDecodeError as err:
-        raise InvalidParameter(name, path, "a valid TOML file", str(err)) from None
-
 
 def _cmd_design(args) -> int:
     from analytic.design.config import case_from_dict
@@ -205,8 +199,8 @@ def _cmd_design(args) -> int:
     from analytic.design.report import design_json, design_text
     from analytic.design.sizing import solve
 
-    case = case_from_dict(_read_toml(args.wall_file, "WALL.toml"))
-    factors = Factors.from_dict(_read_toml(args.factors, "--factors")) if args.factors else load_factors()
+    case = case_from_dict(_read_toml("WALL.toml", args.wall_file))
+    factors = Factors.from_dict(_read_toml("--factors", args.factors)) if args.factors else load_factors()
     fmts = ["DA1", "DA2", "DA3", "EQU", "fs", "seismic"] if args.format == "all" else [args.format]
     if args.format == "all" and case.seismic.kh == 0:
         fmts.remove("seismic")

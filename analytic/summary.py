@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from .arching import handy, khosravi, paik_salgado
 from .classical import coulomb, jaky, janssen, rankine
-from .design import METHODS as DESIGN_METHODS, Ground, earth_pressure
+from .ground import METHODS as DESIGN_METHODS, Ground, earth_pressure
 from .ec7 import ec7_annex_c
 from .errors import InvalidParameter, NotApplicable
 from .inputs import Soil, Wall
@@ -36,7 +36,7 @@ def theory_table(soil: Soil, wall: Wall, *, kh: float = 0.0, kv: float = 0.0,
 
     width: backfill width B [m] for Janssen's slot; defaults to H.
     ground, line_loads, strip_loads: a c-phi, wet or layered backfill and surface loads
-    (``design.py``); when any is given the design methods (Rankine-Bell, Coulomb,
+    (``ground.py``); when any is given the design methods (Rankine-Bell, Coulomb,
     EC7 Annex C) carry the table and the others come back n/a. adhesion_ratio: a/c for
     Coulomb with cohesion.
     """

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from analytic import InvalidParameter, Soil, Wall, coulomb, rankine
-from analytic.design import Ground, Layer, earth_pressure, layers_from_table
+from analytic.ground import Ground, Layer, earth_pressure, layers_from_table
 from analytic.ec7 import ec7_annex_c
 from analytic.surcharge import LineLoad, StripLoad
 from tests.conftest import load_reference
