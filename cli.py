@@ -34,6 +34,11 @@ def _number(name: str, lo=None, hi=None, *, lo_open=True, hi_open=True, unit="")
     return _argparse_type(number(name, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit), name)
 
 
+def _output_file(name: str, suffixes=(".png", ".pdf", ".svg")):
+    from studies.options import output_file
+    return _argparse_type(output_file(name, suffixes), name)
+
+
 def _add_theory(sub):
     p = sub.add_parser("theory", help="closed-form and arching earth pressure for one wall",
                        description="Every closed-form and arching method side by side. "
@@ -75,7 +80,7 @@ def _add_theory(sub):
                    help="strip load Q [kPa] from X1 to X2 [m] behind the wall (repeatable)")
     p.add_argument("--passive", action="store_true", help="passive instead of active")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--plot", metavar="FILE.png", help="draw sigma_h(z) of every method")
+    p.add_argument("--plot", metavar="FILE.png", type=_output_file("plot"), help="draw sigma_h(z) of every method")
     p.set_defaults(func=_cmd_theory)
 
 
@@ -132,7 +137,8 @@ def _add_dsm(sub):
                    help="T translation, RB rotation about the base, RT rotation about the top (T)")
     p.add_argument("--phi", type=_number("phi", 0, 90, unit="deg"), default=None,
                    help="friction angle [deg] (the mode's own: T 34, RB 33.4, RT 40.4)")
-    p.add_argument("--delta", type=_number("delta", -90, 90, unit="deg"), default=24.7, help="wall friction [deg] (24.7)")
+    p.add_argument("--delta", type=_number("delta", 0, 90, lo_open=False, unit="deg"), default=24.7,
+                   help="wall friction [deg], 0 <= delta (the slices' shear acts down the wall) (24.7)")
     p.add_argument("--H", type=_number("H", 0, None, unit="m"), default=3.1, help="wall height [m] (3.1)")
     p.add_argument("--gamma", type=_number("gamma", 0, None, unit="kN/m^3"), default=16.7,
                    help="unit weight [kN/m^3] (16.7)")
@@ -140,7 +146,7 @@ def _add_dsm(sub):
                    help="slip surface: planar at DEG from vertical, 'max' (plane of maximum DSM load), "
                         "'local' (curved, 45 - phi*/2); default: the mode's own")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the three modes like Fig. 8")
+    p.add_argument("--plot", metavar="FILE.png", type=_output_file("plot"), help="draw the three modes like Fig. 8")
     p.set_defaults(func=_cmd_dsm)
 
 
@@ -187,7 +193,8 @@ def _add_design(sub):
     p.add_argument("--factors", metavar="FACTORS.toml", default=None,
                    help="partial factors replacing the EN 1997-1 Annex A table (same layout)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the wall, pressures, forces and base pressure")
+    p.add_argument("--plot", metavar="FILE.png", type=_output_file("plot"),
+                   help="draw the wall, pressures, forces and base pressure")
     p.set_defaults(func=_cmd_design)
 
 
@@ -322,11 +329,27 @@ def _add_option(p, opt) -> None:
     p.add_argument(opt.flag, **kw)
 
 
+#: flags that were renamed so every study spells them alike: old -> new
+RENAMED_FLAGS = {"--out-dir": "--docs"}
+
+
+class _Renamed(argparse.Action):
+    """An old flag: stop with one line that gives its new name."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser.error(f"{option_string} is now {RENAMED_FLAGS[option_string]}")
+
+
 def _add_study_command(sub, study, cmd) -> None:
     """``wallsim <verb> <study>`` with the command's options and the ones every run shares."""
+    from studies.options import output_folder
+
     p = _verb_group(sub, cmd.verb).add_parser(study.name, help=cmd.help, description=cmd.description)
     for opt in cmd.options:
         _add_option(p, opt)
+    for old, new in RENAMED_FLAGS.items():
+        if any(o.flag == new for o in cmd.options):
+            p.add_argument(old, action=_Renamed, nargs="?", help=argparse.SUPPRESS)
     p.add_argument("--seed", type=_argparse_type(_count_value("seed"), "seed"), default=argparse.SUPPRESS,
                    help=f"random seed ({cmd.seed_default})")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
@@ -334,7 +357,8 @@ def _add_study_command(sub, study, cmd) -> None:
     p.add_argument("--config", metavar="FILE.toml", help="case settings from a TOML file (before the flags)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--out", default="runs", metavar="DIR", help="root of the run folders (runs)")
+    p.add_argument("--out", default="runs", metavar="DIR", type=_argparse_type(output_folder("out"), "out"),
+                   help="root of the run folders (runs)")
     p.set_defaults(func=lambda args: _cmd_study(cmd, args))
 
 

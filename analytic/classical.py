@@ -127,8 +127,12 @@ def coulomb(soil: Soil, wall: Wall, passive: bool = False) -> Profile:
     _coulomb_checks(soil, wall, passive)
     K = coulomb_coefficient(soil.phi, wall.delta, wall.omega, wall.beta, passive)
     if not math.isfinite(K):
-        raise InvalidParameter("delta", wall.delta_deg, f"a range where the {'passive' if passive else 'active'} "
-                               "Coulomb wedge has a finite solution for this phi, omega, beta")
+        side = "passive" if passive else "active"
+        if math.isfinite(coulomb_coefficient(soil.phi, 0.0, wall.omega, wall.beta, passive)):
+            raise InvalidParameter("delta", wall.delta_deg, f"values where the {side} Coulomb wedge has a finite "
+                                   "solution for this phi, omega and beta")
+        raise InvalidParameter("omega", wall.omega_deg, f"face inclinations where the {side} Coulomb wedge has a "
+                               "finite solution for this phi and beta")
     K_trial, rho = trial_wedge(soil, wall, passive=passive)
     direction = wall.delta if not passive else -wall.delta
     notes = "planar-wedge Kp is unconservative for rough walls (delta > phi/2)" \
@@ -175,6 +179,9 @@ def trial_wedge(soil: Soil, wall: Wall, passive: bool = False, kh: float = 0.0,
     psi = math.atan2(kh, 1.0 - kv)
     lo = (b if passive else max(phi - psi, b)) + 1e-6
     hi = math.pi / 2 + om - 1e-6
+    if lo >= hi:
+        raise InvalidParameter("omega", math.degrees(om), f"> {math.degrees(lo) - 90:.1f} deg",
+                               "the face leans so far over the fill that no slip plane fits between it and phi")
     grid = np.linspace(lo, hi, 2001)
     vals = thrust(grid)
     if passive:

@@ -4,6 +4,8 @@ typed into a value or raises ``InvalidParameter`` naming the flag and its valid 
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
@@ -51,9 +53,41 @@ def kpa_to_pa(value: float) -> float:
     return value * 1e3
 
 
+def output_file(name: str, suffixes: tuple[str, ...]):
+    """A path to write: a known suffix and an existing, writable folder (checked before
+    the run, so a long run never ends on a file it cannot write)."""
+    def parse(text: str) -> str:
+        path = Path(text)
+        if path.suffix.lower() not in suffixes:
+            raise InvalidParameter(name, text, "a file name ending in " + " or ".join(suffixes))
+        folder = path.parent if str(path.parent) else Path(".")
+        if not folder.is_dir():
+            raise InvalidParameter(name, text, "a path in an existing folder", f"no folder {folder}")
+        if not os.access(folder, os.W_OK) or path.is_dir():
+            raise InvalidParameter(name, text, "a writable file path", f"{folder} is not writable")
+        return text
+    parse.__name__ = name
+    return parse
+
+
+def output_folder(name: str):
+    """A folder to write into: it exists and is writable, or it can be made."""
+    def parse(text: str) -> str:
+        path = Path(text)
+        probe = path
+        while not probe.exists() and probe != probe.parent:
+            probe = probe.parent
+        if not text or not probe.is_dir() or not os.access(probe, os.W_OK):
+            raise InvalidParameter(name, text, "a writable folder")
+        return text
+    parse.__name__ = name
+    return parse
+
+
 #: the recording flags of the 3D runs
 RECORDING = (
-    Option("--rrd", "recording path (default: recording.rrd in the run folder)", metavar="FILE"),
+    Option("--rrd", "recording path (default: recording.rrd in the run folder)", metavar="FILE",
+           parse=output_file("rrd", (".rrd",))),
     Option("--no-rrd", "write no recording", switch=True),
     Option("--spawn", "also open the Rerun viewer", switch=True),
     Option("--every", "log the scene (particles, chains) every N x 500 steps (5)", parse=count("every"), default=5),

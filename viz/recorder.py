@@ -17,6 +17,9 @@ buffer everything in RAM, ../shared/STACK.md 2.1).
 from __future__ import annotations
 
 import functools
+import os
+import shutil
+import sys
 import time
 from pathlib import Path
 
@@ -118,8 +121,7 @@ class Recorder:
         self.rec = rr.RecordingStream(app_id, recording_id=recording_id)
         self.rec.set_log_time_enabled(False)  # smaller files, comparable between runs
         bp = blueprint or default_blueprint(dim)
-        if spawn:
-            self.rec.spawn(connect=False)
+        spawn = spawn and _spawn_viewer(self.rec, self.path)
         sinks = []
         if self.path is not None:
             self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -289,6 +291,30 @@ class Recorder:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _viewer_executable() -> str | None:
+    """The ``rerun`` viewer installed beside this Python (the venv's bin), else on PATH."""
+    here = Path(sys.executable).parent / "rerun"
+    return str(here) if here.exists() else shutil.which("rerun")
+
+
+def _spawn_viewer(rec, path: Path | None) -> bool:
+    """Start the native viewer for ``rec``; without a display or a viewer say so in one
+    line (the recording file is still written) and return False."""
+    where = f"; open the recording later with: rerun {path}" if path is not None else ""
+    if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        print(f"wallsim: no display for --spawn{where}", file=sys.stderr)
+        return False
+    exe = _viewer_executable()
+    try:
+        if exe is None:
+            raise FileNotFoundError("rerun")
+        rr.spawn(connect=False, executable_path=exe, recording=rec)
+        return True
+    except Exception as err:          # the run must go on without a viewer
+        print(f"wallsim: could not start the viewer ({type(err).__name__}){where}", file=sys.stderr)
+        return False
 
 
 def _scene_size(frame) -> float:

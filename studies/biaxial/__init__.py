@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
-from ..options import kpa_to_pa, number, number_list
+from ..options import kpa_to_pa, number, number_list, output_file
 from ..study import Command, Option, Study
 
 
@@ -63,7 +63,8 @@ CALIBRATE = Command(
                parse=number("target-phi", 0, 90, unit="deg")),
         Option("--particles-scale", "multiply every grain diameter (1 = D50 1.16 mm, ~12.7k disks) (1)",
                key="case.particles_scale", parse=number("particles-scale", 0, None)),
-        Option("--card", "also write the calibration card here", metavar="FILE.json"),
+        Option("--card", "also write the calibration card here", metavar="FILE.json",
+               parse=output_file("card", (".json",))),
     ))
 
 STUDY = Study(name="biaxial", title="Biaxial test of the Khosravi backfill (friction for a target phi)",

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import number
+from ..options import number, output_folder
 from ..study import Command, Option, Study
 
 
@@ -55,7 +55,7 @@ def _compare_text(res: dict):
 
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, None]:
     from .compare import validate_khosravi
-    return validate_khosravi(out_dir=opts.out_dir, root=opts.out, quiet=opts.quiet, case=case, rrd=opts.rrd), None
+    return validate_khosravi(out_dir=opts.docs, root=opts.out, quiet=opts.quiet, case=case, rrd=opts.rrd), None
 
 
 def _validate_text(report: dict) -> str:
@@ -83,7 +83,8 @@ VALIDATE = Command(
                 "and translation to 0.01 at 80 sweeps ~38 min, a biaxial test for phi ~10 min when no card has "
                 "one; docs/validation/khosravi.md).",
     default_case=_validation_case, run=_validate, text=_validate_text,
-    options=(Option("--out-dir", "where the report goes (docs/validation)", default="docs/validation"),
+    options=(Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
+                    parse=output_folder("docs")),
              Option("--rrd", "also keep recording.rrd in the run folder", switch=True)))
 
 STUDY = Study(name="khosravi", title="Khosravi et al., PFC2D-style translating wall with 40 pressure cells",

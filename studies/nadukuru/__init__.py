@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 from analytic.errors import InvalidParameter
 
-from ..options import RECORDING, count
+from ..options import RECORDING, count, output_folder
 from ..study import Command, Option, Study
 
 MODES = ("T", "RB", "RT", "mixed")
@@ -109,7 +109,8 @@ VALIDATE = Command(
         Option("--no-triaxial", "skip the triaxial calibration (an existing card for the recipe is used)",
                switch=True),
         Option("--no-rate-check", "skip the half-speed repeat of translation", switch=True),
-        Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR"),
+        Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
+               parse=output_folder("docs")),
     ))
 
 STUDY = Study(name="nadukuru", title="Nadukuru & Michalowski (2012), 3D DEM, four modes of wall movement",
