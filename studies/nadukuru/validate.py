@@ -30,6 +30,8 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
     """Run ``modes`` for each wall kind in ``walls``, set them against the paper and write
     ``nadukuru.json``, ``nadukuru.md`` and (when every mode ran) the figures to
     ``out_dir``; specimens and calibration cards are cached under ``root``. Returns the report."""
+    import viz.figures  # noqa: F401  (here, as before: a missing plotting stack fails before the runs)
+
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     report = {"case": "nadukuru", "versions": package_versions(), "git": git_revision(),
