@@ -89,42 +89,73 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
               card: str | Path | None = None) -> tuple[dict, RunFolder]:
     """Run the plan, write the run folder (config, CSV, PNG, card, manifest); also write
     the card to ``card`` if given. Returns (card dict, run folder)."""
-    from viz.figures import plot_biaxial
+    import viz.figures  # noqa: F401  (here, as before: a missing plotting stack fails before the tests run)
 
     rf = RunFolder("biaxial", plan.case.seed, root=root)
     rf.write_config(plan)
     tests = []
 
-    def card_now(mu_cal):
-        return {"target_phi_deg": plan.target_phi, "calibrated_friction": mu_cal,
-                "source": "wallsim dem2d biaxial test (dem2d/biaxial.py), Khosravi et al. section 2",
-                "tests": [{k: v for k, v in t.items() if k != "curve"} for t in tests],
-                "grading": {"d50_m": plan.case.grading.d50, "cu": plan.case.cu},
-                "run_folder": str(rf.path)}
-
     def save_card(mu_cal):  # after every test, so other runs can use finished tests
         if card is not None:
             Path(card).parent.mkdir(parents=True, exist_ok=True)
-            Path(card).write_text(json.dumps(to_plain(card_now(mu_cal)), indent=2) + "\n")
+            Path(card).write_text(json.dumps(to_plain(_card(plan, tests, rf, mu_cal)), indent=2) + "\n")
 
     with progress(quiet) as bar:
-        for mu in plan.frictions:
-            case = dataclasses.replace(plan.case, friction=float(mu))
-            out, _, _ = run_one(case, bar, f"mu={mu:g}")
-            tests.append(out)
-            save_card(float("nan"))
-        mu_cal = interpolate_friction(tests, plan.target_phi)
-        if not math.isfinite(mu_cal):
-            # phi(mu) does not reach the target (free disks saturate): the pressure series
-            # is run at the friction whose phi is closest to it instead
-            mu_near = min(tests, key=lambda t: abs(t["phi_cs_deg"] - plan.target_phi))["friction"]
-        else:
-            mu_near = mu_cal
-        for p in plan.pressures:
-            case = dataclasses.replace(plan.case, friction=mu_near, confining=float(p))
-            out, _, _ = run_one(case, bar, f"mu={mu_near:.3f} p={p / 1e3:g}kPa")
-            tests.append(out)
-            save_card(mu_cal)
+        mu_cal = _run_tests(plan, tests, bar, save_card)
+    _write_curves(rf, tests)
+    result = _card(plan, tests, rf, mu_cal)
+    result["calibrated_friction_peak"] = interpolate_friction(tests[:len(plan.frictions)], plan.target_phi,
+                                                              key="phi_peak_deg")
+    rf.write_json("result.json", result)
+    rf.write_manifest(n_grains=[t["n_grains"] for t in tests], dt=plan.case.solver.dt,
+                      iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
+    if card is not None:
+        Path(card).write_text(json.dumps(to_plain(result), indent=2) + "\n")
+        import shutil
+        shutil.copy(rf.file("biaxial.png"), Path(card).with_suffix(".png"))
+    return result, rf
+
+
+def _card(plan: CalibrationPlan, tests: list[dict], rf: RunFolder, mu_cal: float) -> dict:
+    """The calibration card so far: target phi [deg], calibrated friction (nan until the
+    friction series is done), the tests without their curves, grading, run folder."""
+    return {"target_phi_deg": plan.target_phi, "calibrated_friction": mu_cal,
+            "source": "wallsim dem2d biaxial test (dem2d/biaxial.py), Khosravi et al. section 2",
+            "tests": [{k: v for k, v in t.items() if k != "curve"} for t in tests],
+            "grading": {"d50_m": plan.case.grading.d50, "cu": plan.case.cu},
+            "run_folder": str(rf.path)}
+
+
+def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card) -> float:
+    """The friction series at the plan's confining stress, then the pressure series at
+    the calibrated friction; each test is appended to ``tests`` and ``save_card`` called
+    after it. Returns the calibrated friction (nan when the series does not bracket the
+    target phi)."""
+    for mu in plan.frictions:
+        case = dataclasses.replace(plan.case, friction=float(mu))
+        out, _, _ = run_one(case, bar, f"mu={mu:g}")
+        tests.append(out)
+        save_card(float("nan"))
+    mu_cal = interpolate_friction(tests, plan.target_phi)
+    if not math.isfinite(mu_cal):
+        # phi(mu) does not reach the target (free disks saturate): the pressure series
+        # is run at the friction whose phi is closest to it instead
+        mu_near = min(tests, key=lambda t: abs(t["phi_cs_deg"] - plan.target_phi))["friction"]
+    else:
+        mu_near = mu_cal
+    for p in plan.pressures:
+        case = dataclasses.replace(plan.case, friction=mu_near, confining=float(p))
+        out, _, _ = run_one(case, bar, f"mu={mu_near:.3f} p={p / 1e3:g}kPa")
+        tests.append(out)
+        save_card(mu_cal)
+    return mu_cal
+
+
+def _write_curves(rf: RunFolder, tests: list[dict]) -> None:
+    """Every test's stress-strain curve to ``biaxial_curves.csv`` (stresses in kPa) and
+    ``biaxial.png`` in the run folder."""
+    from viz.figures import plot_biaxial
+
     rows = []
     for t in tests:
         c = t["curve"]
@@ -136,17 +167,6 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
                   (t["curve"]["eps_axial"], t["curve"]["sigma_1"], t["curve"]["sigma_3"], t["curve"]["eps_vol"])
                   for t in tests}, rf.file("biaxial.png"),
                  title="Biaxial tests (Khosravi Fig. 4 style)")
-    result = card_now(mu_cal)
-    result["calibrated_friction_peak"] = interpolate_friction(tests[:len(plan.frictions)], plan.target_phi,
-                                                              key="phi_peak_deg")
-    rf.write_json("result.json", result)
-    rf.write_manifest(n_grains=[t["n_grains"] for t in tests], dt=plan.case.solver.dt,
-                      iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
-    if card is not None:
-        Path(card).write_text(json.dumps(to_plain(result), indent=2) + "\n")
-        import shutil
-        shutil.copy(rf.file("biaxial.png"), Path(card).with_suffix(".png"))
-    return result, rf
 
 
 def phi_for_friction(friction: float, cards: str | Path | Sequence[str | Path] = DEFAULT_CARDS,

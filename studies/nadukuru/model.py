@@ -23,8 +23,10 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Iterator, Literal
 
 import numpy as np
@@ -279,76 +281,126 @@ def specimen_key(case: NadukuruCase) -> str:
 
 
 def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
-    """Rain, trim to H and settle the backfill behind the fixed wall (module docstring)."""
-    rec, wall = case.specimen, case.wall
+    """Rain, trim to H and settle the backfill behind the fixed wall (module docstring).
+    Stages A (rain and pack), B (trim and stiffen), C (load to g), then the at-rest
+    measurement; each stage's steps, times and settle trace go to ``Specimen.stages``."""
+    rec = case.specimen
     rng = np.random.default_rng(case.seed)
-    s, w = grain_scale(rec, wall)
-    wall = dataclasses.replace(wall, width=w)
-    d_min, d_max = s * rec.d_min, s * rec.d_max
-    L, H = wall.backfill_length, wall.height
+    s, w = grain_scale(rec, case.wall)
+    wall = dataclasses.replace(case.wall, width=w)
+    spec, gen_height = _loose_fill(rec, wall, s, rng)
+    dt = _dt(rec, s)
+    walls = _box_walls(wall, rec)
+    log = _StageLog()
+    sim, steps = _rain_and_pack(spec, rec, wall, walls, gen_height, s * rec.d_max, dt, progress, log)
+    sim, more, res = _trim_and_stiffen(sim, rec, wall.height, walls, dt, log)
+    steps += more
+    if rec.rain_gravity != 1.0:
+        more, res = _load_to_gravity(sim, rec, dt, log)
+        steps += more
+    return _measure_at_rest(sim, rec, wall, s, dt, steps, res.ratio, log.stages)
+
+
+def _loose_fill(rec: SpecimenRecipe, wall: WallSetup, scale: float, rng) -> tuple[dem3d.Specimen, float]:
+    """The bodies placed at random (the only draws from ``rng``) in L x w x gen_height,
+    and gen_height [m]: tall enough for a solid fraction of 0.2, since random addition
+    jams near 0.25-0.38. ``scale`` multiplies the recipe's diameters (``grain_scale``)."""
+    L, H, w = wall.backfill_length, wall.height, wall.width
     n_bodies = int(round(rec.particles / (1.0 + rec.clump_fraction)))
-    # generate at a solid fraction of 0.2 (random addition jams near 0.25-0.38)
     gen_height = (1.0 - rec.target_porosity) * H * _OVERFILL / 0.20
     lo = np.array([0.0, 0.0, 0.0]) + 1e-3
     hi = np.array([L, w, gen_height]) - 1e-3
-    spec = dem3d.random_specimen(rng, lo, hi, n_bodies, d_min, d_max, clump_fraction=rec.clump_fraction,
-                                 clump_overlap=rec.clump_overlap, density=rec.density)
-    dt = _dt(rec, s)
-    walls = _box_walls(wall, rec)
-    # A. deposition: springs softened by ``deposition_softening`` (a larger stable step: the
-    #    frictionless packing does not depend on the stiffness), deposition friction,
-    #    viscous damping only (local damping would slow the fall to 0.3 g), raised gravity
-    import time as _time
-    stages = {}
-    tic, cpu = _time.perf_counter(), _time.process_time()
-    trace = []      # the settle ratio and kinetic energy of the current stage, every check
+    spec = dem3d.random_specimen(rng, lo, hi, n_bodies, scale * rec.d_min, scale * rec.d_max,
+                                 clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
+                                 density=rec.density)
+    return spec, gen_height
 
-    def stage(name, n):
-        nonlocal tic, cpu
+
+class _StageLog:
+    """Per preparation stage: steps, wall and CPU time [s] since the previous stage ended,
+    and the settle trace (step, unbalanced-force ratio, kinetic energy at each check),
+    kept in ``Specimen.stages`` to show where the preparation spends its time."""
+
+    def __init__(self):
+        self.stages: dict = {}
+        self.trace: list = []       # filled by dem3d.settle(trace=...), emptied by each stage
+        self.tic, self.cpu = _time.perf_counter(), _time.process_time()
+
+    def stage(self, name: str, n: int) -> None:
         # cpu_s counts every thread: cpu_s / wall_s is the number of cores the stage used
-        stages[name] = {"steps": int(n), "wall_s": round(_time.perf_counter() - tic, 1),
-                        "cpu_s": round(_time.process_time() - cpu, 1),
-                        "trace": [[int(k), float(f"{r:.4g}"), float(f"{e:.4g}")] for k, r, e in trace]}
-        trace.clear()
-        tic, cpu = _time.perf_counter(), _time.process_time()
+        self.stages[name] = {"steps": int(n), "wall_s": round(_time.perf_counter() - self.tic, 1),
+                             "cpu_s": round(_time.process_time() - self.cpu, 1),
+                             "trace": [[int(k), float(f"{r:.4g}"), float(f"{e:.4g}")] for k, r, e in self.trace]}
+        self.trace.clear()
+        self.tic, self.cpu = _time.perf_counter(), _time.process_time()
 
+
+def _rain_and_pack(spec, rec: SpecimenRecipe, wall: WallSetup, walls: list, gen_height: float, d_max: float,
+                   dt: float, progress, log: _StageLog) -> tuple[dem3d.Simulation, int]:
+    """Stage A, deposition: the bodies fall and pack behind the wall (with the guard above
+    it) under ``deposition_gravity``, at the deposition friction, with springs softened by
+    ``deposition_softening`` (a larger stable step: the frictionless packing does not
+    depend on the stiffness) and viscous damping only while falling (local damping
+    would slow the fall to 0.3 g). Returns the simulation and its steps."""
     soft = rec.deposition_softening
     dt_soft = dt * math.sqrt(soft)
     sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, 0.0, soft), dt=dt_soft,
                            walls=walls + [_guard_above_wall(wall, gen_height + d_max)],
-                           periodic=dem3d.Periodic(1, 0.0, w) if wall.side_friction is None else None)
+                           periodic=dem3d.Periodic(1, 0.0, wall.width) if wall.side_friction is None else None)
     g_dep = G * rec.deposition_gravity
     sim.gravity = np.array([0.0, 0.0, -g_dep])
     steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")
-    stage("fall", steps)
+    log.stage("fall", steps)
     sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping, soft))
-    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft), trace=trace)
+    res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft),
+                       trace=log.trace)
     steps += res.steps
-    stage("pack", res.steps)
-    # B. unload to the lock-in gravity (overlaps shrink), trim to H, then the paper's
-    #    stiffness and friction at that gravity
+    log.stage("pack", res.steps)
+    return sim, steps
+
+
+def _trim_and_stiffen(sim, rec: SpecimenRecipe, H: float, walls: list, dt: float, log: _StageLog):
+    """Stage B: unload to the lock-in gravity ``rain_gravity`` (overlaps shrink), trim to
+    H [m] (drops the guard), settle at the paper's stiffness with the deposition friction,
+    then with the particle friction. Returns (the new simulation, its steps counted
+    here, the last settle result)."""
     g_low = G * rec.rain_gravity
     sim.gravity = np.array([0.0, 0.0, -g_low])
-    steps += _advance(sim, 2000, None, "")
-    stages["in_front_of_wall"] = int(np.sum(sim.spheres.x[:, 0] < 0.0))   # removed by the trim; 0 with the guard
+    steps = _advance(sim, 2000, None, "")
+    log.stages["in_front_of_wall"] = int(np.sum(sim.spheres.x[:, 0] < 0.0))   # removed by the trim; 0 with the guard
     sim = _trim(sim, H, walls, rec, dt)      # paper stiffness, still the deposition friction
     sim.gravity = np.array([0.0, 0.0, -g_low])
-    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt), trace=trace)
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt), trace=log.trace)
     steps += res.steps
-    stage("stiffen", res.steps)
+    log.stage("stiffen", res.steps)
     sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
-    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=trace)
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=log.trace)
     steps += res.steps
-    stage("friction on", res.steps)
-    # C. load to full gravity with friction on: a 1D compression of the whole fill
-    if rec.rain_gravity != 1.0:
-        for k in range(1, 11):
-            sim.gravity = np.array([0.0, 0.0, -(g_low + (G - g_low) * k / 10)])
-            steps += _advance(sim, 500, None, "")
-        res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=trace)
-        steps += res.steps
-        stage("load to g", res.steps + 5000)
-    # measure with local damping off: the wall sees the true static state
+    log.stage("friction on", res.steps)
+    return sim, steps, res
+
+
+def _load_to_gravity(sim, rec: SpecimenRecipe, dt: float, log: _StageLog):
+    """Stage C: raise gravity from ``rain_gravity`` to g in 10 steps of 500 time steps
+    with the friction on, a 1D compression of the whole fill that sets the at-rest K;
+    then settle. Returns (steps, the settle result)."""
+    g_low = G * rec.rain_gravity
+    steps = 0
+    for k in range(1, 11):
+        sim.gravity = np.array([0.0, 0.0, -(g_low + (G - g_low) * k / 10)])
+        steps += _advance(sim, 500, None, "")
+    res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=log.trace)
+    steps += res.steps
+    log.stage("load to g", res.steps + 5000)
+    return steps, res
+
+
+def _measure_at_rest(sim, rec: SpecimenRecipe, wall: WallSetup, scale: float, dt: float, steps: int,
+                     settle_ratio: float, stages: dict) -> Specimen:
+    """The settled specimen with its at-rest figures, measured after 2000 steps with local
+    damping off (the wall sees the true static state): porosity of the middle 80 % of the
+    box, K0 by eq. 6, resultant height / H, wall load [kN], stress ratio."""
+    L, H, w = wall.backfill_length, wall.height, wall.width
     sim.set_params(_contact(rec, rec.particle_friction, 0.0))
     steps += _advance(sim, 2000, None, "")
     f = dem3d.frame(sim)
@@ -359,8 +411,9 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     ratio = _stress_ratio(sim, f, H, w, L)
     return Specimen(state=sim.to_arrays(), porosity=n, K_at_rest=K0, centroid_at_rest=load.height / H,
                     wall_load_kN=load.normal / 1e3, stress_ratio=ratio, n_spheres=sim.n_spheres,
-                    n_bodies=int(len(np.unique(f.body_id))), grain_scale=s, dt=dt, steps=steps,
-                    sim_time=sim.time, settle_ratio=res.ratio, fill_height=_fill_height(sim), width=w, stages=stages)
+                    n_bodies=int(len(np.unique(f.body_id))), grain_scale=scale, dt=dt, steps=steps,
+                    sim_time=sim.time, settle_ratio=settle_ratio, fill_height=_fill_height(sim), width=w,
+                    stages=stages)
 
 
 def _advance(sim, n_steps: int, progress, label: str, chunk: int = 1000) -> int:
@@ -501,28 +554,10 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
     the engine state plus ``movement.t0`` (the time the movement started); passing that
     dict back as ``resume`` continues the movement exactly (dem3d resumes bitwise).
     """
-    import time as _time
-    from types import SimpleNamespace
-
-    rec, mv = case.specimen, case.movement
+    mv = case.movement
     wall = dataclasses.replace(case.wall, width=specimen.width)
-    H = wall.height
-    motion, _ = wall_motion(mv, H)
-    # motions are schedules from t = 0 while the specimen's clock stands at t0 after
-    # settling: shift them so the ramp starts when the wall starts to move
-    if resume is None:
-        t0 = float(specimen.state["time"])
-        sim = dem3d.Simulation.from_arrays(specimen.state, walls=_box_walls(wall, rec, _shifted(motion, t0)))
-        sim.walls.reset_pivots()              # a new motion, not the stored (fixed) one
-        sim.set_params(_contact(rec, rec.particle_friction, mv.local_damping))
-    else:
-        t0 = float(resume["movement.t0"])
-        sim = dem3d.Simulation.from_arrays({k: v for k, v in resume.items() if k != "movement.t0"},
-                                           walls=_box_walls(wall, rec, _shifted(motion, t0)))
-    target = mv.disp_over_H * H
-    total_time = mv.ramp / 2.0 + target / mv.speed if target / mv.speed > mv.ramp / 2 else \
-        math.sqrt(2.0 * target * mv.ramp / mv.speed)
-    n_total = int(math.ceil(total_time / sim.dt))
+    sim, t0 = _movement_simulation(case, specimen, wall, resume)
+    n_total = int(math.ceil(_movement_duration(mv, wall.height) / sim.dt))
     ids = sim.walls.panel_ids("wall")
     k = mv.record_every
     done = int(round((sim.time - t0) / sim.dt))
@@ -535,14 +570,7 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
         hist_f, hist_m = sim.step(m, record_panels=True)
         done += m
         since_frame += m
-        panels = SimpleNamespace(panel_force=hist_f.mean(axis=0), panel_moment=hist_m.mean(axis=0),
-                                 panel_normal=sim.walls.panels.normal, panel_corners=sim.walls.corners(),
-                                 panel_area=sim.walls.areas())
-        load = wall_load(panels, ids, H)
-        disp = _ramp_distance(mv.speed, mv.ramp, sim.time - t0 - 0.5 * m * sim.dt)
-        sample = LoadSample(disp / H, sim.time, sim.step_count,
-                            load_coefficient(load.normal, specimen.porosity, rec, wall),
-                            load.height / H, load.normal / 1e3, load.segment_stress)
+        sample = _averaged_sample(sim, hist_f, hist_m, ids, m, t0, case, specimen, wall)
         emit = bool(frame_every) and (since_frame >= frame_every or done >= n_total or done == m)
         if emit:
             since_frame = 0
@@ -555,6 +583,50 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
             state["movement.t0"] = np.array(t0)
             checkpoint(state)
             last_checkpoint = _time.perf_counter()
+
+
+def _movement_simulation(case: NadukuruCase, specimen: Specimen, wall: WallSetup,
+                         resume: dict | None) -> tuple[dem3d.Simulation, float]:
+    """The simulation that moves the wall, from the settled specimen or from a checkpoint
+    (``resume``), and t0 [s], the simulation time at which the movement started. Motions
+    are schedules from t = 0 while the specimen's clock stands at t0 after settling:
+    they are shifted so the ramp starts when the wall starts to move."""
+    rec, mv = case.specimen, case.movement
+    motion, _ = wall_motion(mv, wall.height)
+    if resume is None:
+        t0 = float(specimen.state["time"])
+        sim = dem3d.Simulation.from_arrays(specimen.state, walls=_box_walls(wall, rec, _shifted(motion, t0)))
+        sim.walls.reset_pivots()              # a new motion, not the stored (fixed) one
+        sim.set_params(_contact(rec, rec.particle_friction, mv.local_damping))
+    else:
+        t0 = float(resume["movement.t0"])
+        sim = dem3d.Simulation.from_arrays({k: v for k, v in resume.items() if k != "movement.t0"},
+                                           walls=_box_walls(wall, rec, _shifted(motion, t0)))
+    return sim, t0
+
+
+def _movement_duration(mv: Movement, H: float) -> float:
+    """Time [s] for the edge that defines Delta to reach disp_over_H * H [m] when its
+    speed ramps linearly to ``speed`` over ``ramp`` (``_ramp_distance`` inverted)."""
+    target = mv.disp_over_H * H
+    return mv.ramp / 2.0 + target / mv.speed if target / mv.speed > mv.ramp / 2 else \
+        math.sqrt(2.0 * target * mv.ramp / mv.speed)
+
+
+def _averaged_sample(sim, hist_f, hist_m, ids, m: int, t0: float, case: NadukuruCase, specimen: Specimen,
+                     wall: WallSetup) -> LoadSample:
+    """The load sample of the last ``m`` steps: panel forces and moments averaged over
+    them (``hist_f``, ``hist_m`` from ``sim.step(record_panels=True)``), Delta/H at the
+    middle of the chunk, K by eq. 6 with the specimen's porosity."""
+    mv, H = case.movement, wall.height
+    panels = SimpleNamespace(panel_force=hist_f.mean(axis=0), panel_moment=hist_m.mean(axis=0),
+                             panel_normal=sim.walls.panels.normal, panel_corners=sim.walls.corners(),
+                             panel_area=sim.walls.areas())
+    load = wall_load(panels, ids, H)
+    disp = _ramp_distance(mv.speed, mv.ramp, sim.time - t0 - 0.5 * m * sim.dt)
+    return LoadSample(disp / H, sim.time, sim.step_count,
+                      load_coefficient(load.normal, specimen.porosity, case.specimen, wall),
+                      load.height / H, load.normal / 1e3, load.segment_stress)
 
 
 def _shifted(motion: dem3d.Motion, t0: float) -> dem3d.Motion:

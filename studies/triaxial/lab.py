@@ -99,11 +99,42 @@ def _plane(point, normal, half):
     return dem3d.plane(point, normal, 0.0, half)
 
 
+#: the six platens of the cubical cell: x-, x+, y-, y+, z- (the fixed floor platen), z+;
+#: normals point into the specimen, points are platen centres as fractions of the side
+_PLATEN_NORMALS = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+_PLATEN_POINTS = [(0, .5, .5), (1, .5, .5), (.5, 0, .5), (.5, 1, .5), (.5, .5, 0), (.5, .5, 1)]
+#: platens the servo drives: all but the floor (isotropic stages), the four lateral (shearing)
+_ALL_BUT_FLOOR = (True, True, True, True, False, True)
+_LATERAL = (True, True, True, True, False, False)
+
+
 def run_triaxial(rec: SpecimenRecipe, setup: TriaxialSetup = TriaxialSetup(), *, seed: int = 1,
                  particles: int = 8200, progress=None) -> TriaxialResult:
     """Build, compact and shear a cubical specimen of ``particles`` spheres (incl. clump
     members) with the grains of ``rec``; see the module docstring."""
     rng = np.random.default_rng(seed)
+    spec, side0 = _loose_cube(rec, particles, rng)
+    servo = [ServoVelocity() for _ in range(6)]
+    walls = _platen_walls(side0, servo)
+    m_min = rec.density * math.pi / 6.0 * rec.d_min**3
+    dt = rec.dt or 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
+    mu_compact = mu_compact_of(setup, rec)
+    sim = dem3d.Simulation(spec, _contact(rec, mu_compact, rec.local_damping), dt=dt, walls=walls,
+                           gravity=(0.0, 0.0, 0.0))
+    cell = _ServoCell(sim, servo, rec.kn, 0.5 * (rec.d_min + rec.d_max), dt)
+    target = np.full(6, setup.confining)
+    compaction_steps = _compact(cell, target, setup, progress)
+    dims0, porosity0 = _rebalance(cell, rec, target, setup)
+    eps_a, eps_v, s1, s3 = _shear(cell, rec, target, setup, dims0, progress)
+    res = TriaxialResult(np.array(eps_a), np.array(eps_v), np.array(s1), np.array(s3), porosity0,
+                         sim.n_spheres, float(dims0[0]))
+    res.steps = {"compaction": compaction_steps, "total": sim.step_count, "dt": dt}
+    return res
+
+
+def _loose_cube(rec: SpecimenRecipe, particles: int, rng) -> tuple[dem3d.Specimen, float]:
+    """The bodies placed at random (the only draws from ``rng``) in a cube at solid
+    fraction 0.22, and the cube's side [m]."""
     n_bodies = int(round(particles / (1.0 + rec.clump_fraction)))
     a, b = rec.d_min, rec.d_max
     mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
@@ -112,97 +143,115 @@ def run_triaxial(rec: SpecimenRecipe, setup: TriaxialSetup = TriaxialSetup(), *,
     spec = dem3d.random_specimen(rng, (1e-3,) * 3, (side0 - 1e-3,) * 3, n_bodies, a, b,
                                  clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
                                  density=rec.density)
-    servo = [ServoVelocity() for _ in range(6)]
-    # faces: x-, x+, y-, y+, z- (fixed floor platen), z+ ; normals into the specimen
-    normals = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
-    points = [(0, .5, .5), (1, .5, .5), (.5, 0, .5), (.5, 1, .5), (.5, .5, 0), (.5, .5, 1)]
+    return spec, side0
+
+
+def _platen_walls(side0: float, servo: list[ServoVelocity]) -> list:
+    """The six frictionless platens around a cube of side ``side0`` [m]; the floor (z-) is
+    fixed, the others move at the velocity their ``servo`` schedule holds."""
     walls = []
     for k in range(6):
-        p = tuple(side0 * c for c in points[k])
+        p = tuple(side0 * c for c in _PLATEN_POINTS[k])
         motion = dem3d.FIXED if k == 4 else dem3d.translation(servo[k])
-        walls.append(dem3d.Wall(f"face{k}", [_plane(p, normals[k], (0.5 * side0, 0.5 * side0))], motion))
-    m_min = rec.density * math.pi / 6.0 * a**3
-    dt = rec.dt or 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
-    mu_compact = mu_compact_of(setup, rec)
-    sim = dem3d.Simulation(spec, _contact(rec, mu_compact, rec.local_damping), dt=dt, walls=walls,
-                           gravity=(0.0, 0.0, 0.0))
-    normal = np.array(normals, float)
+        walls.append(dem3d.Wall(f"face{k}", [_plane(p, _PLATEN_NORMALS[k], (0.5 * side0, 0.5 * side0))], motion))
+    return walls
 
-    def box():
-        c = sim.walls.panels.centre
+
+class _ServoCell:
+    """The specimen between its six platens: box dimensions [m], platen stresses [Pa]
+    and the servo that drives the platens towards target stresses."""
+
+    def __init__(self, sim, servo: list[ServoVelocity], kn: float, d_mean: float, dt: float):
+        self.sim, self.servo, self.kn, self.d_mean, self.dt = sim, servo, kn, d_mean, dt
+        self.normal = np.array(_PLATEN_NORMALS, float)
+
+    def box(self) -> np.ndarray:
+        """(x, y, z) distances between opposite platens [m]."""
+        c = self.sim.walls.panels.centre
         return np.array([c[1, 0] - c[0, 0], c[3, 1] - c[2, 1], c[5, 2] - c[4, 2]])
 
-    def stresses():
-        dims = box()
+    def stresses(self) -> np.ndarray:
+        """Normal stress on each platen [Pa], compression positive."""
+        dims = self.box()
         areas = np.array([dims[1] * dims[2]] * 2 + [dims[0] * dims[2]] * 2 + [dims[0] * dims[1]] * 2)
-        f = sim.panel_force
-        return -np.einsum("pd,pd->p", f, normal) / areas
+        f = self.sim.panel_force
+        return -np.einsum("pd,pd->p", f, self.normal) / areas
 
-    d_mean = 0.5 * (a + b)
-
-    def servo_step(targets, active, v_max, n):
+    def servo_step(self, targets, active, v_max: float, n: int) -> np.ndarray:
         """PFC-style servo: move each active platen so that, with the contact stiffness
         of a platen (about one contact per d_mean^2 of area, kn each), half of its stress
-        error closes in one chunk; speed capped at v_max."""
-        sig = stresses()
-        dims = box()
+        error closes in one chunk; speed capped at v_max [m/s]. Then run ``n`` steps.
+        Returns the stresses [Pa] the speeds were set from."""
+        sig = self.stresses()
+        dims = self.box()
         areas = np.array([dims[1] * dims[2]] * 2 + [dims[0] * dims[2]] * 2 + [dims[0] * dims[1]] * 2)
-        k_platen = 0.5 * areas / d_mean**2 * rec.kn      # N/m per platen (~0.5 contact per d^2)
+        k_platen = 0.5 * areas / self.d_mean**2 * self.kn      # N/m per platen (~0.5 contact per d^2)
         for k in range(6):
             if not active[k]:
                 continue
-            v = 0.8 * (targets[k] - sig[k]) * areas[k] / k_platen[k] / (n * dt)   # + inward
+            v = 0.8 * (targets[k] - sig[k]) * areas[k] / k_platen[k] / (n * self.dt)   # + inward
             v = max(-v_max, min(v_max, v))
-            servo[k].value = tuple(v * normal[k])
-        sim.step(n)
+            self.servo[k].value = tuple(v * self.normal[k])
+        self.sim.step(n)
         return sig
 
-    target = np.full(6, setup.confining)
-    lateral = [True, True, True, True, False, True]
-    # 1. isotropic compaction with the deposition friction
+
+def _compact(cell: _ServoCell, target: np.ndarray, setup: TriaxialSetup, progress) -> int:
+    """Stage 1: isotropic compaction at the compaction friction until the five moving
+    platens are within 2 % of the confining stress and the unbalanced-force ratio is
+    below 5e-3 (checked every 25 chunks). Returns the step count at its end."""
     task = progress.add_task("triaxial: compaction", total=None, status="") if progress else None
     for it in range(400_000 // setup.chunk):
-        sig = servo_step(target, lateral, setup.servo_speed, setup.chunk)
+        sig = cell.servo_step(target, _ALL_BUT_FLOOR, setup.servo_speed, setup.chunk)
         if it % 25 == 0:
             if task is not None:
                 progress.update(task, status=f"sigma {np.mean(sig[[0, 1, 2, 3, 5]]) / 1e3:.0f} kPa")
             if np.all(np.abs(sig[[0, 1, 2, 3, 5]] / setup.confining - 1) < 0.02) and \
-                    dem3d.measure.unbalanced_force_ratio(sim) < 5e-3:
+                    dem3d.measure.unbalanced_force_ratio(cell.sim) < 5e-3:
                 break
-    compaction_steps = sim.step_count
-    # 2. particle friction, re-balance
-    sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
+    return cell.sim.step_count
+
+
+def _rebalance(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray,
+               setup: TriaxialSetup) -> tuple[np.ndarray, float]:
+    """Stage 2: the particle friction on, 2000 // chunk chunks of servo at the confining stress.
+    Returns the box dimensions [m] and porosity at the start of shearing."""
+    cell.sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
     for it in range(2000 // setup.chunk):
-        servo_step(target, lateral, 0.2 * setup.servo_speed, setup.chunk)
-    dims0 = box()
-    solid = _solid_volume(sim)
+        cell.servo_step(target, _ALL_BUT_FLOOR, 0.2 * setup.servo_speed, setup.chunk)
+    dims0 = cell.box()
+    solid = _solid_volume(cell.sim)
     porosity0 = 1.0 - solid / float(np.prod(dims0))
-    # 3. shear: top platen at constant strain rate; lateral servo at sigma_3
+    return dims0, porosity0
+
+
+def _shear(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: TriaxialSetup,
+           dims0: np.ndarray, progress) -> tuple[list, list, list, list]:
+    """Stage 3: the top platen moves down at the strain rate to ``max_strain`` (local
+    damping off); the lateral platens hold sigma_3. Returns, per chunk, axial and
+    volumetric strain (compression +) and sigma_1, sigma_3 [Pa]."""
+    sim, servo, normal = cell.sim, cell.servo, cell.normal
     sim.set_params(_contact(rec, rec.particle_friction, 0.0))
     H0 = dims0[2]
     v_axial = setup.strain_rate * H0
     servo[5].value = tuple(v_axial * normal[5])
-    n_steps = int(setup.max_strain / setup.strain_rate / dt)
-    lateral_only = [True, True, True, True, False, False]
+    n_steps = int(setup.max_strain / setup.strain_rate / cell.dt)
     eps_a, eps_v, s1, s3 = [], [], [], []
     V0 = float(np.prod(dims0))
     shear_task = progress.add_task("triaxial: shearing", total=n_steps, status="") if progress else None
     done = 0
     while done < n_steps:
         k = min(setup.chunk, n_steps - done)
-        sig = servo_step(target, lateral_only, 4.0 * v_axial, k)
+        sig = cell.servo_step(target, _LATERAL, 4.0 * v_axial, k)
         done += k
-        dims = box()
+        dims = cell.box()
         eps_a.append(1.0 - dims[2] / H0)
         eps_v.append(1.0 - float(np.prod(dims)) / V0)
         s1.append(0.5 * (sig[4] + sig[5]))
         s3.append(float(np.mean(sig[:4])))
         if shear_task is not None:
             progress.update(shear_task, advance=k, status=f"eps {eps_a[-1]:.3f}")
-    res = TriaxialResult(np.array(eps_a), np.array(eps_v), np.array(s1), np.array(s3), porosity0,
-                         sim.n_spheres, float(dims0[0]))
-    res.steps = {"compaction": compaction_steps, "total": sim.step_count, "dt": dt}
-    return res
+    return eps_a, eps_v, s1, s3
 
 
 def mu_compact_of(setup: TriaxialSetup, rec: SpecimenRecipe) -> float:
