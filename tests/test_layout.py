@@ -80,3 +80,13 @@ def test_every_validation_report_is_indexed():
     index = (folder / "README.md").read_text()
     missing = [p.name for p in folder.iterdir() if p.name != "README.md" and p.name not in index]
     assert missing == []
+
+
+def test_study_functions_are_short():
+    """No function of the study layer is longer than 60 lines (a study reads as stages)."""
+    long = []
+    for p in _sources("studies"):
+        for node in ast.walk(ast.parse(p.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.end_lineno - node.lineno >= 60:
+                long.append(f"{p.relative_to(ROOT)}:{node.lineno} {node.name}")
+    assert long == []
