@@ -1,4 +1,4 @@
-"""Solver-settings study for dem2d (issue 6: "before/after" figures).
+"""Solver-settings study for dem2d (the "before/after" figures of docs/dem2d.md).
 
 Measured on one reduced-size settled specimen (Khosravi's box, grains 4x coarser,
 the tests' fixture) restored from a snapshot for every variant, so only the setting

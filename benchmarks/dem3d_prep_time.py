@@ -1,5 +1,5 @@
 """Wall and CPU time of the Nadukuru & Michalowski specimen preparation, stage by stage
-(issue 5: "specimen preparation <= 15 min" on this 2-core machine).
+(the goal: specimen preparation <= 15 min on this 2-core machine).
 
 Runs ``studies.nadukuru.model.prepare_specimen`` on the default recipe (rough wall, the
 particle count and seed given) and writes, per stage, the steps, wall time, CPU time

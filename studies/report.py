@@ -179,3 +179,25 @@ def nadukuru_text(res: dict):
         foot.append(f"\nrecording: {tm['recording_s']:.1f} s of {tm['movement_s']:.0f} s wall movement "
                     f"({100 * tm['recording_share_of_movement']:.1f} %), {tm['rrd_MB']:.1f} MB", style="dim")
     return Group(t, foot)
+
+
+# ----------------------------------------------------------------------------- checks
+def check(item: str, measured: str, ok: bool | None) -> dict:
+    """One validation item: what is checked, the measured figure as text, and whether
+    it holds (None: this run cannot judge it, e.g. a reused specimen has no fill time)."""
+    return {"item": item, "measured": measured, "ok": ok}
+
+
+def within(value: float, target: float, tol: float) -> bool:
+    """|value - target| <= tol."""
+    return abs(value - target) <= tol
+
+
+def verdict(ok: bool | None) -> str:
+    return "n/a" if ok is None else ("yes" if ok else "**no**")
+
+
+def checks_markdown(checks: list[dict], title: str = "Validation targets") -> list[str]:
+    """A Markdown section: one row per check with its measured figure and verdict."""
+    rows = [f"| {c['item']} | {c['measured']} | {verdict(c['ok'])} |" for c in checks]
+    return [f"## {title}", "", "| item | measured | holds |", "|---|---|---|", *rows]

@@ -213,7 +213,8 @@ def active_record(run: KhosraviRun):
 
 def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reused: bool,
               cache: Path) -> dict:
-    """Headline numbers: the ones the issue asks for, each with what it is compared to."""
+    """Headline numbers: the ones the validation targets judge, each with what it is
+    compared to."""
     c, bf = run.case, run.backfill
     H, g = bf.H, bf.gamma
     act = active_record(run)

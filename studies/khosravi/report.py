@@ -1,5 +1,5 @@
 """The validation report of the Khosravi case: ``khosravi.json`` (numbers) and
-``khosravi.md`` (what they mean, against the paper and the issue's targets), with the
+``khosravi.md`` (what they mean, against the paper and the validation targets), with the
 run's figures copied next to them."""
 
 from __future__ import annotations
@@ -8,6 +8,7 @@ import json
 import shutil
 from pathlib import Path
 
+from studies.report import check, checks_markdown, within
 from studies.runfolder import to_plain
 
 
@@ -23,10 +24,6 @@ def _sweeps(res: dict) -> str:
     return f"{fill}" if fill == reading else f"{fill} (fill), {reading} (at rest and translation)"
 
 
-def _check(ok: bool | None) -> str:
-    return "n/a" if ok is None else ("yes" if ok else "**no**")
-
-
 def _dis_active(result: dict) -> str:
     """Dis/H of the record the active figures are read at (results before it was stored: n/a)."""
     x = result.get("dis_over_H_active")
@@ -34,7 +31,8 @@ def _dis_active(result: dict) -> str:
 
 
 def assess(result: dict, ref: dict) -> list[dict]:
-    """Each 'done when' item of the issue with the measured figure and whether it holds."""
+    """Each validation target (reference.json "targets") with the measured figure and
+    whether it holds."""
     d = result["dem"]
     tg = ref["targets"]
     rel = abs(d["K_at_rest_upper_half_over_jaky"] - 1.0)
@@ -43,47 +41,45 @@ def assess(result: dict, ref: dict) -> list[dict]:
     end = result.get("dis_over_H_end", result.get("dis_over_H_active"))
     judged = end is not None and end >= 2 * tg["dis_over_H_steady_at_most"]
     return [
-        {"item": "at-rest K, upper half, within 15 % of 1 - sin(phi_biaxial)",
-         "measured": f"K = {d['K_at_rest_upper_half']:.3f} vs {d['jaky_K0']:.3f} ({100 * (d['K_at_rest_upper_half_over_jaky'] - 1):+.1f} %)",
-         "ok": rel <= tg["K_at_rest_upper_half_vs_jaky_rel_tol"]},
-        {"item": "at-rest reduction at the bottom corner visible in PS0",
-         "measured": f"PS0 = {d['PS0_at_rest_over_gammaH']:.3f} gamma H; lowest 4-panel reading "
-                     f"{d['lowest_reading_at_rest_over_gammaH']:.3f} gamma H; PS0 / Jaky at its depth = "
-                     f"{d['PS0_at_rest_over_jaky']:.2f}" + _trend(d),
-         "ok": d["PS0_at_rest_over_gammaH"] < d["lowest_reading_at_rest_over_gammaH"]},
-        {"item": "active profile below at-rest everywhere",
-         "measured": "all reading points" if d["active_below_at_rest_everywhere"] else "not at every reading point",
-         "ok": d["active_below_at_rest_everywhere"]},
-        {"item": f"active total thrust below Rankine's (at Dis/H = {_dis_active(result)})",
-         "measured": f"{d['active_thrust_over_rankine']:.3f} x Rankine",
-         "ok": d["active_thrust_over_rankine"] < tg["active_thrust_over_rankine_below"]},
-        {"item": "steady state reached by Dis/H <= 0.003",
-         "measured": f"Dis/H = {d['dis_over_H_steady']:.5f} (90 % of the drop to the run's end), "
-                     f"{d['dis_over_H_steady_95']:.5f} (95 %)" + ("" if judged else
-                     "; the run ends at the target, so this cannot show a later fall"),
-         "ok": d["dis_over_H_steady"] <= tg["dis_over_H_steady_at_most"] if judged else None},
-        {"item": "vertical reactions = weight",
-         "measured": f"{d['weight_balance']:.4f}",
-         "ok": abs(d["weight_balance"] - 1) <= tg["weight_balance_abs_tol"]},
+        check("at-rest K, upper half, within 15 % of 1 - sin(phi_biaxial)",
+              f"K = {d['K_at_rest_upper_half']:.3f} vs {d['jaky_K0']:.3f} "
+              f"({100 * (d['K_at_rest_upper_half_over_jaky'] - 1):+.1f} %)",
+              rel <= tg["K_at_rest_upper_half_vs_jaky_rel_tol"]),
+        check("at-rest reduction at the bottom corner visible in PS0",
+              f"PS0 = {d['PS0_at_rest_over_gammaH']:.3f} gamma H; lowest 4-panel reading "
+              f"{d['lowest_reading_at_rest_over_gammaH']:.3f} gamma H; PS0 / Jaky at its depth = "
+              f"{d['PS0_at_rest_over_jaky']:.2f}" + _trend(d),
+              d["PS0_at_rest_over_gammaH"] < d["lowest_reading_at_rest_over_gammaH"]),
+        check("active profile below at-rest everywhere",
+              "all reading points" if d["active_below_at_rest_everywhere"] else "not at every reading point",
+              d["active_below_at_rest_everywhere"]),
+        check(f"active total thrust below Rankine's (at Dis/H = {_dis_active(result)})",
+              f"{d['active_thrust_over_rankine']:.3f} x Rankine",
+              d["active_thrust_over_rankine"] < tg["active_thrust_over_rankine_below"]),
+        check("steady state reached by Dis/H <= 0.003",
+              f"Dis/H = {d['dis_over_H_steady']:.5f} (90 % of the drop to the run's end), "
+              f"{d['dis_over_H_steady_95']:.5f} (95 %)"
+              + ("" if judged else "; the run ends at the target, so this cannot show a later fall"),
+              d["dis_over_H_steady"] <= tg["dis_over_H_steady_at_most"] if judged else None),
+        check("vertical reactions = weight", f"{d['weight_balance']:.4f}",
+              within(d["weight_balance"], 1.0, tg["weight_balance_abs_tol"])),
         _time_check(result, tg["case_wall_time_min_at_most"]),
     ]
 
 
 def _time_check(result: dict, goal_min: float) -> dict:
-    """The issue's time goal: pluviation + at-rest reading + translation to the active
+    """The time goal: pluviation + at-rest reading + translation to the active
     reading, wall time of one run that filled its own box (a reused specimen cannot say)."""
     t = result.get("timings_s", {})
     item = f"full-size case (pluviation + translation to Dis/H 0.003) within {goal_min:g} min"
     parts = [t.get(k) for k in ("pluviation_s", "at_rest_s", "translation_to_active_s")]
     if result.get("specimen_reused"):
-        return {"item": item, "measured": "n/a: the specimen was reused, so this run did not fill", "ok": None}
+        return check(item, "n/a: the specimen was reused, so this run did not fill", None)
     if any(p is None for p in parts):  # results written before the time to the active reading was kept
-        return {"item": item, "measured": "n/a: this result does not record the time of each stage", "ok": None}
+        return check(item, "n/a: this result does not record the time of each stage", None)
     minutes = sum(parts) / 60
-    return {"item": item,
-            "measured": f"{minutes:.1f} min (pluviation {parts[0] / 60:.1f}, at rest {parts[1] / 60:.1f}, "
-                        f"translation {parts[2] / 60:.1f})",
-            "ok": minutes <= goal_min}
+    return check(item, f"{minutes:.1f} min (pluviation {parts[0] / 60:.1f}, at rest {parts[1] / 60:.1f}, "
+                       f"translation {parts[2] / 60:.1f})", minutes <= goal_min)
 
 
 def write_report(result: dict, rf, out_dir: Path, reference: Path) -> dict:
@@ -134,13 +130,8 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
           f"total {t.get('total', float('nan')) / 60:.1f} min on {manifest.get('cpu_count', '?')} cores"
         + (f" (CPU time of the run {t['cpu_total'] / 60:.1f} min)" if "cpu_total" in t else ""),
         "",
-        "## Done-when items (issue 6)",
-        "",
-        "| item | measured | holds |",
-        "|---|---|---|",
+        *checks_markdown(checks),
     ]
-    for c in checks:
-        lines.append(f"| {c['item']} | {c['measured']} | {_check(c['ok'])} |")
     lines += [
         "",
         "## Against the paper",

@@ -80,7 +80,7 @@ class SpecimenRecipe:
                           h/H 0.418 against 0.230 / 0.401; 0.472 with floor 0.65) and the
                           rough mixed mode (docs/validation/nadukuru_floor_friction.json);
                           a full validation at 0.1 misses 6 of the 14 table figures
-                          against 5 at 0.2 (docs/validation/nadukuru_floor0.1/)
+                          against 5 at 0.2 (docs/validation/archive/nadukuru_floor0.1/)
     target_porosity:      porosity used to size the grains so the box fills to H
     dt:                   time step [s] (None: 0.2 x the critical step)
     settle_ratio:         unbalanced-force ratio that ends settling
