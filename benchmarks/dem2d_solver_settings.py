@@ -29,7 +29,8 @@ import numpy as np
 from dem2d.measure import readings
 from dem2d.params import Solver
 from dem2d.pluviation import Pluviation
-from studies.khosravi.run import KhosraviRun, k_upper_half
+from studies.khosravi.run import KhosraviRun
+from studies.measures import k_upper_half
 from studies.khosravi.case import KhosraviCase
 from dem2d.sim import restore
 

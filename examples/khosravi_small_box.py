@@ -14,7 +14,7 @@ from studies import get
 def run(out="runs"):
     """The study's result dict for the tiny box."""
     khosravi = get("khosravi")
-    case = khosravi.case(H=0.1, particles_scale=5, dis_over_H_max=0.001)
+    case = khosravi.case(H=0.1, particles_scale=5, wall_disp_over_H_max=0.001)
     return khosravi.run(case, out=out)
 
 
@@ -23,4 +23,4 @@ if __name__ == "__main__":
     d = r["dem"]
     print(f"{r['particles']} disks, porosity {r['porosity']:.3f}, phi (biaxial) {d['phi_biaxial']:.1f} deg")
     print(f"at rest: K upper half {d['K_at_rest_upper_half']:.3f} vs Jaky {d['jaky_K0']:.3f}")
-    print(f"active thrust at Dis/H {r['dis_over_H_active']:.4f}: {d['active_thrust_over_rankine']:.3f} x Rankine")
+    print(f"active thrust at Dis/H {r['wall_disp_over_H_active']:.4f}: {d['active_thrust_over_rankine']:.3f} x Rankine")

@@ -18,6 +18,35 @@ from pathlib import Path
 from analytic.errors import InvalidParameter
 
 
+#: names used before the study layer's vocabulary (docs/architecture.md, glossary): a
+#: config file, --set key, cached specimen or older report that uses one still reads
+RENAMED_KEYS = {
+    "disp_over_H": "wall_disp_over_H", "dis_over_H": "wall_disp_over_H",
+    "dis_over_H_max": "wall_disp_over_H_max", "dis_over_H_active": "wall_disp_over_H_active",
+    "dis_over_H_end": "wall_disp_over_H_end", "dis_over_H_steady": "wall_disp_over_H_steady",
+    "dis_over_H_steady_95": "wall_disp_over_H_steady_95", "disp_over_H_steady": "wall_disp_over_H_steady",
+    "centroid": "resultant_height_over_H", "centroid_at_rest": "resultant_height_over_H_at_rest",
+    "centroid_active": "resultant_height_over_H_active", "normal_kN": "thrust_kN",
+    "wall_load_kN": "thrust_at_rest_kN", "at_rest_wall_load_kN": "thrust_at_rest_kN_per_0.5m",
+    "at_rest_load_kN_per_0.5m": "thrust_at_rest_kN_per_0.5m", "z_over_H": "depth_over_H",
+}
+
+
+def current_name(key: str) -> str:
+    """``key`` (dotted or bare) with an old field name replaced by today's."""
+    *head, last = key.split(".")
+    return ".".join([*head, RENAMED_KEYS.get(last, last)])
+
+
+def with_current_names(obj):
+    """A JSON-like record with every old key renamed (older reports and caches)."""
+    if isinstance(obj, dict):
+        return {RENAMED_KEYS.get(k, k): with_current_names(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [with_current_names(v) for v in obj]
+    return obj
+
+
 def _field_types(cls) -> dict[str, object]:
     hints = typing.get_type_hints(cls)
     return {f.name: hints[f.name] for f in dataclasses.fields(cls)}
@@ -106,6 +135,7 @@ def _resolve(case, dotted: str, raw=None):
 
 def set_value(case, key: str, raw):
     """Return a copy of ``case`` with ``key`` set to ``raw`` (coerced to the field type)."""
+    key = current_name(key)
     hit = _resolve(case, key, raw)
     if hit is None:
         raise InvalidParameter(key, raw, "a key of this case", "unknown key; `wallsim keys <study>` lists them")

@@ -1,11 +1,14 @@
-"""Measurements on wall-movement records, shared by the 2D and 3D cases."""
+"""Measurements on wall records, shared by the 2D and 3D studies: the thrust and its
+height from panel stresses, the at-rest coefficient of a depth range, and the
+displacement by which the thrust has settled. (3D panels also carry moments:
+``nadukuru.model.wall_load`` takes the height from forces and moments.)"""
 
 from __future__ import annotations
 
 import numpy as np
 
 
-def steady_displacement(dis_over_H: np.ndarray, thrust: np.ndarray, fraction: float = 0.9,
+def steady_displacement(wall_disp_over_H: np.ndarray, thrust: np.ndarray, fraction: float = 0.9,
                         smooth: int = 3) -> float:
     """Dis/H at which the (running-mean smoothed) thrust first completes ``fraction`` of
     its drop from the first to the final value: the first point at or below
@@ -25,4 +28,31 @@ def steady_displacement(dis_over_H: np.ndarray, thrust: np.ndarray, fraction: fl
         return float("nan")
     level = f_end + (1.0 - fraction) * (f0 - f_end)
     reached = np.nonzero(t <= level)[0]
-    return float(dis_over_H[reached[0]])
+    return float(wall_disp_over_H[reached[0]])
+
+
+def normal_thrust(sigma: np.ndarray, depth: np.ndarray, panel_height: float) -> float:
+    """Normal force on the wall below the surface [N/m]: sum sigma_i L_i over panels
+    whose centre is below the surface (L = panel height)."""
+    return float(np.sum(sigma[depth > 0]) * panel_height)
+
+
+def k_upper_half(sigma: np.ndarray, depth: np.ndarray, panel_height: float, gamma: float,
+                 H: float) -> float:
+    """Lateral earth pressure coefficient of the upper half of the wall: the normal force
+    on the panels with centres at 0 < z <= H/2, over the geostatic force on the same
+    depth range, gamma (H/2)^2 / 2 (a force-weighted mean of sigma_h / (gamma z))."""
+    up = (depth > 0) & (depth <= H / 2)
+    lo_edge = np.clip(depth[up] - panel_height / 2, 0.0, None)
+    hi_edge = depth[up] + panel_height / 2
+    geo = gamma * np.sum(hi_edge**2 - lo_edge**2) / 2.0
+    return float(np.sum(sigma[up]) * panel_height / geo)
+
+
+def resultant_height_over_H(sigma: np.ndarray, depth: np.ndarray, panel_height: float, H: float) -> float:
+    """Height of the resultant of the normal stresses above the base over H [-]: the
+    moment about the base of sigma_i L over the panels below the surface, each force at
+    its panel centre (a 2D panel reports a force, no moment), over the thrust."""
+    below = depth > 0
+    F = np.sum(sigma[below])
+    return float(np.sum(sigma[below] * (H - depth[below])) / max(F, 1e-12)) / H

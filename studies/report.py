@@ -162,9 +162,9 @@ def nadukuru_text(res: dict):
         return "" if x is None else format(x, fmt)
 
     t.add_row("wallsim DEM (active)", f(d["K"], ".3f"), f(d["resultant_height_over_H"], ".3f"),
-              f"porosity {d['porosity']:.3f}; steady by Delta/H {d['disp_over_H_steady']:.4f}")
+              f"porosity {d['porosity']:.3f}; steady by Delta/H {d['wall_disp_over_H_steady']:.4f}")
     t.add_row("wallsim DEM (at rest)", f(d["K_at_rest"], ".3f"), f(d["resultant_height_over_H_at_rest"], ".3f"),
-              f"wall load {d['at_rest_wall_load_kN']:.1f} kN per 0.5 m (paper ~15.4)")
+              f"wall load {d['thrust_at_rest_kN_per_0.5m']:.1f} kN per 0.5 m (paper ~15.4)")
     t.add_row("paper's DEM", f(p.get("K"), ".3f"), f(p.get("resultant_height_over_H"), ".3f"), p.get("source", ""))
     fi = p.get("fang_ishibashi")
     if fi:

@@ -37,5 +37,5 @@ def test_nadukuru_example_gives_the_pinned_K(tmp_path):
 def test_khosravi_example_gives_the_pinned_K_at_rest(tmp_path):
     r = _example("khosravi_small_box").run(out=tmp_path)
     assert r["particles"] == 756
-    # `compare khosravi --H 0.1 --particles-scale 5 --set dis_over_H_max=0.001` at 9d8b6f6
+    # `compare khosravi --H 0.1 --particles-scale 5 --set wall_disp_over_H_max=0.001` at 9d8b6f6
     assert r["dem"]["K_at_rest_upper_half"] == 1.2025399622399533

@@ -99,14 +99,14 @@ def plot_khosravi_at_rest(z_over_H, sigma_norm, path, *, jaky_K: float, ps0=None
     return _finish(fig, path)
 
 
-def plot_khosravi_vs_displacement(dis_over_H, series: dict, path, *, title: str = "",
+def plot_khosravi_vs_displacement(wall_disp_over_H, series: dict, path, *, title: str = "",
                                   steady: float | None = None) -> Path:
     """Khosravi et al. Fig. 12 style: sigma_h/(gamma H) of each reading point against
     Dis/H. ``series``: label -> (n,) values."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k, (label, vals) in enumerate(series.items()):
         ls = "--" if label.startswith("PS0") else "-"
-        ax.plot(dis_over_H, vals, ls, color=f"C{k % 10}", label=label)
+        ax.plot(wall_disp_over_H, vals, ls, color=f"C{k % 10}", label=label)
     if steady is not None and np.isfinite(steady):
         ax.axvline(steady, color="k", lw=0.8, ls=":", label=f"steady at Dis/H = {steady:.4f}")
     ax.set_xlabel("Dis / H")
@@ -120,8 +120,8 @@ def plot_khosravi_vs_displacement(dis_over_H, series: dict, path, *, title: str 
 
 
 def plot_khosravi_profiles(z_over_H, sigma_rest, sigma_active, theories, path, *, jaky_K: float,
-                           gamma: float, H: float, dis_over_H: float = 0.003, title: str = "") -> Path:
-    """Khosravi et al. Fig. 13 style: at rest and active (at ``dis_over_H``) readings against
+                           gamma: float, H: float, wall_disp_over_H: float = 0.003, title: str = "") -> Path:
+    """Khosravi et al. Fig. 13 style: at rest and active (at ``wall_disp_over_H``) readings against
     z/H with Jaky (at rest) and Rankine, Handy, Paik-Salgado, Khosravi (active).
     ``theories``: Profiles (sigma_h in Pa, z in m), normalised here by gamma H."""
     fig, axes = plt.subplots(1, 2, figsize=(10, 6), sharey=True)
@@ -135,7 +135,7 @@ def plot_khosravi_profiles(z_over_H, sigma_rest, sigma_active, theories, path, *
         ls, c = _STYLE.get(p.method, ("-", None))
         label = p.method + (" (reconstruction)" if p.status != "verified" else "")
         ax.plot(p.sigma_h / (gamma * H), p.z / H, ls, color=c, label=label)
-    ax.plot(sigma_active, z_over_H, "ko-", label=f"DEM Dis/H = {dis_over_H:.4g}")
+    ax.plot(sigma_active, z_over_H, "ko-", label=f"DEM Dis/H = {wall_disp_over_H:.4g}")
     ax.set_title("(b) active")
     for ax in axes:
         ax.set_ylim(1.02, 0)
@@ -249,7 +249,7 @@ def plot_dsm_modes(results: dict, presets: dict, path) -> Path:
 def plot_load_history(curves: dict, path, *, paper: dict | None = None, at_rest: float | None = None,
                       title: str = "", ylabel: str = "load coefficient K (eq. 6)") -> Path:
     """Nadukuru & Michalowski Fig. 4: K against wall movement Delta/H for each mode.
-    curves: {label: (disp_over_H, K)}; paper: {label: K} drawn as dashed levels;
+    curves: {label: (wall_disp_over_H, K)}; paper: {label: K} drawn as dashed levels;
     at_rest: the DEM specimen's at-rest K (dotted)."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for (label, (x, y)), c in zip(curves.items(), (f"C{i}" for i in range(10))):

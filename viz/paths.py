@@ -17,7 +17,7 @@ Time series::
 
     metrics/K              load coefficient of the wall
     metrics/thrust_kN      normal thrust per metre of wall
-    metrics/centroid       height of the resultant / H
+    metrics/resultant_height_over_H       height of the resultant / H
     metrics/panel_stress_kPa/<i>   normal stress on panel i
     metrics/kinetic_energy_J
 
@@ -40,7 +40,7 @@ PROFILE_THEORY = "profile/theory"
 METRICS = "metrics"
 METRIC_K = "metrics/K"
 METRIC_THRUST = "metrics/thrust_kN"
-METRIC_CENTROID = "metrics/centroid"
+METRIC_RESULTANT_HEIGHT = "metrics/resultant_height_over_H"
 METRIC_PANEL_STRESS = "metrics/panel_stress_kPa"
 METRIC_KE = "metrics/kinetic_energy_J"
 CASE = "case"

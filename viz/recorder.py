@@ -57,7 +57,7 @@ def default_blueprint(dim: int, *, scene_name: str = "particles and force chains
              else rrb.Spatial2DView(origin=P.WORLD, name=scene_name))
     right = [rrb.Spatial2DView(origin=P.PROFILE, name="sigma_h/(gamma H) (x) against -depth/H (y)"),
              rrb.TimeSeriesView(origin=P.METRIC_K, name="K"),
-             rrb.TimeSeriesView(origin=P.METRIC_CENTROID, name="resultant height / H")]
+             rrb.TimeSeriesView(origin=P.METRIC_RESULTANT_HEIGHT, name="resultant height / H")]
     right += [rrb.TimeSeriesView(origin=e, name=e.rsplit("/", 1)[-1]) for e in extra_series]
     right.append(rrb.TextDocumentView(origin=P.CASE, name="case"))
     return rrb.Blueprint(rrb.Horizontal(scene, rrb.Vertical(*right), column_shares=[3, 2]),
@@ -149,18 +149,18 @@ class Recorder:
                          static=True)
 
     # ------------------------------------------------------------------ per frame
-    def _set_time(self, step: int, time: float, disp_over_H: float | None) -> None:
+    def _set_time(self, step: int, time: float, wall_disp_over_H: float | None) -> None:
         self.rec.set_time(P.TIMELINE_STEP, sequence=int(step))
         self.rec.set_time(P.TIMELINE_TIME, duration=float(time))
-        if disp_over_H is not None:
-            self.rec.set_time(P.TIMELINE_DISP, sequence=int(round(disp_over_H * P.DISP_TIMELINE_SCALE)))
+        if wall_disp_over_H is not None:
+            self.rec.set_time(P.TIMELINE_DISP, sequence=int(round(wall_disp_over_H * P.DISP_TIMELINE_SCALE)))
 
     @_timed
     def log_frame(self, frame, *, wall_disp_over_H: float | None = None, colour_by: str = "displacement",
                   profile: tuple[np.ndarray, np.ndarray] | None = None,
                   metrics: dict[str, float] | None = None) -> bool:
         """Log one engine frame. ``profile`` = (z/H at panel centres, sigma_h/(gamma H));
-        ``metrics`` = scalars (e.g. K, thrust_kN, centroid) kept as time series.
+        ``metrics`` = scalars (e.g. K, thrust_kN, resultant_height_over_H) kept as time series.
         Returns True when the scene was logged (every N-th call)."""
         if self.rec is None:
             return False
@@ -233,12 +233,12 @@ class Recorder:
 
     @_timed
     def log_displacement(self, x0: np.ndarray, x1: np.ndarray, *, step: int, time: float,
-                         max_arrows: int = 3000, disp_over_H: float | None = None) -> None:
+                         max_arrows: int = 3000, wall_disp_over_H: float | None = None) -> None:
         """Displacement field x1 - x0 as arrows (evenly subsampled to ``max_arrows``)."""
         if self.rec is None:
             return
         k = max(len(x0) // max_arrows, 1)
-        self._set_time(step, time, disp_over_H)
+        self._set_time(step, time, wall_disp_over_H)
         Arrows = rr.Arrows3D if self.dim == 3 else rr.Arrows2D
         self.rec.log(P.DISPLACEMENT, Arrows(origins=x0[::k].astype(np.float32),
                                             vectors=(x1 - x0)[::k].astype(np.float32)))

@@ -23,7 +23,7 @@ def _default_case():
 def _validation_case():
     from .case import KhosraviCase
     from .compare import VALIDATION_DIS_OVER_H
-    return KhosraviCase(dis_over_H_max=VALIDATION_DIS_OVER_H)
+    return KhosraviCase(wall_disp_over_H_max=VALIDATION_DIS_OVER_H)
 
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
@@ -48,7 +48,7 @@ def _compare_text(res: dict):
     t.add_row("PS0 at rest / (Jaky at its depth)", f"{d['PS0_at_rest_over_jaky']:.2f}", "< 1: corner arching")
     t.add_row("active thrust / Rankine", f"{d['active_thrust_over_rankine']:.3f}", "paper: below 1")
     t.add_row("active below at rest everywhere", str(d["active_below_at_rest_everywhere"]), "")
-    t.add_row("Dis/H steady (90 % of the drop)", f"{d['dis_over_H_steady']:.5f}", "paper 0.0002-0.0005; <= 0.003")
+    t.add_row("Dis/H steady (90 % of the drop)", f"{d['wall_disp_over_H_steady']:.5f}", "paper 0.0002-0.0005; <= 0.003")
     t.add_row("floor + walls vertical / weight", f"{d['weight_balance']:.4f}", "1")
     return t
 

@@ -73,8 +73,8 @@ class KhosraviCase:
     wall_speed:       translation speed of the wall away from the backfill [m/s]; 4 mm/s
                       against 2 changed the active thrust at Dis/H 0.003 by 0.3 % (2x
                       coarser grains, same specimen; docs/dem2d.md)
-    dis_over_H_max:   end of the translation, Dis/H
-    dis_over_H_active: where the active profile and thrust are read, Dis/H (the paper's
+    wall_disp_over_H_max:   end of the translation, Dis/H
+    wall_disp_over_H_active: where the active profile and thrust are read, Dis/H (the paper's
                       0.003; at the end if the wall stops earlier). Moving on past it is
                       what lets the steadiness of the pressure be judged
     window:           averaging window of the pressure cells [s]
@@ -105,8 +105,8 @@ class KhosraviCase:
     floor_friction: float | None = None
     far_wall_friction: float = 0.0
     wall_speed: float = 4e-3
-    dis_over_H_max: float = 0.003
-    dis_over_H_active: float = 0.003
+    wall_disp_over_H_max: float = 0.003
+    wall_disp_over_H_active: float = 0.003
     window: float = 0.01
     rest_time: float = 0.05
     seed: int = 1
@@ -130,8 +130,8 @@ class KhosraviCase:
                                    f"grains of {MIN_GRAINS_ACROSS} x d50 x scale must fit across H and the box")
         require_number("friction", self.friction, 0.0, None, lo_open=False)
         require_number("wall_speed", self.wall_speed, 0.0, None, unit="m/s")
-        require_number("dis_over_H_max", self.dis_over_H_max, 0.0, 0.1)
-        require_number("dis_over_H_active", self.dis_over_H_active, 0.0, 0.1)
+        require_number("wall_disp_over_H_max", self.wall_disp_over_H_max, 0.0, 0.1)
+        require_number("wall_disp_over_H_active", self.wall_disp_over_H_active, 0.0, 0.1)
         require_number("window", self.window, 0.0, None, unit="s")
         if not (isinstance(self.n_panels, int) and self.n_panels >= 1):
             raise InvalidParameter("n_panels", self.n_panels, "an integer >= 1")

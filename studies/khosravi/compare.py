@@ -26,8 +26,8 @@ from analytic import Soil, Wall, jaky, rankine
 from analytic.arching import handy, khosravi, paik_salgado
 from analytic.classical import jaky_coefficient, rankine_coefficient
 from dem2d.biaxial import BiaxialCase
-from studies.khosravi.run import KhosraviRun, k_upper_half, normal_thrust
-from studies.measures import steady_displacement
+from studies.khosravi.run import KhosraviRun
+from studies.measures import k_upper_half, normal_thrust, resultant_height_over_H, steady_displacement
 from studies.khosravi.case import KhosraviCase
 from dem2d.sim import restore
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
@@ -89,7 +89,7 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
                      name: str | None = None, card: Path | tuple[Path, ...] = DEFAULT_CARDS,
                      checkpoint_layers: int = 3) -> tuple[dict, RunFolder]:
     """Pluviate (or reuse the settled specimen), read the wall at rest, translate it to
-    Dis/H = case.dis_over_H_max, compare with theory; write the run folder.
+    Dis/H = case.wall_disp_over_H_max, compare with theory; write the run folder.
 
     Checkpoints: every ``checkpoint_layers`` layers the partly filled box is written to
     ``<key>.partial.pkl`` (an interrupted pluviation resumes from it), and the settled
@@ -154,18 +154,18 @@ def settled_box(case: KhosraviCase, specimens: Store | None, key: str, bar,
 
 
 def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwatch) -> None:
-    """Move the wall to Dis/H = case.dis_over_H_max (readings into ``run.history``),
+    """Move the wall to Dis/H = case.wall_disp_over_H_max (readings into ``run.history``),
     logging ``frames`` scenes; notes when the paper's active reading was reached."""
     case, bf = run.case, run.backfill
     t0 = time.perf_counter()
-    n_total = int(math.ceil(case.dis_over_H_max * bf.H / (case.wall_speed * case.window)))
+    n_total = int(math.ceil(case.wall_disp_over_H_max * bf.H / (case.wall_speed * case.window)))
     every = max(1, n_total // max(frames, 1))
     task = bar.add_task("translation", total=n_total, status="")
     z, gH = run.panel_depths(), bf.gamma * bf.H
     _log(recorder, run, rest, z, 0.0, gH)
     for k, r in enumerate(run.translate()):
         bar.update(task, completed=k + 1, status=f"Dis/H {r.dis / bf.H:.5f}")
-        if "translation_to_active_s" not in clock.seconds and r.dis / bf.H >= case.dis_over_H_active:
+        if "translation_to_active_s" not in clock.seconds and r.dis / bf.H >= case.wall_disp_over_H_active:
             # the paper's movement ends here; a validation run goes on to judge steadiness
             clock.seconds["translation_to_active_s"] = time.perf_counter() - t0
         if recorder is not None and (k + 1) % every == 0:
@@ -185,7 +185,7 @@ def _case_text(case: KhosraviCase) -> str:
             + json.dumps(to_plain(case), indent=1) + "\n```\n")
 
 
-def _log(recorder, run, r, z, dis_over_H, gH) -> None:
+def _log(recorder, run, r, z, wall_disp_over_H, gH) -> None:
     if recorder is None:
         return
     frame = run.frame()
@@ -195,16 +195,16 @@ def _log(recorder, run, r, z, dis_over_H, gH) -> None:
     d, m, _ = run.readings_of(r)
     H = run.backfill.H
     F = normal_thrust(r.sigma, z, run.case.panel_height)
-    centroid = float(np.sum(r.sigma[z > 0] * (H - z[z > 0])) / max(np.sum(r.sigma[z > 0]), 1e-12)) / H
-    recorder.log_frame(frame, wall_disp_over_H=dis_over_H, profile=(d / H, m / gH),
-                       metrics={"K": 2 * F / (gH * H), "thrust_kN": F / 1e3, "centroid": centroid})
+    recorder.log_frame(frame, wall_disp_over_H=wall_disp_over_H, profile=(d / H, m / gH),
+                       metrics={"K": 2 * F / (gH * H), "thrust_kN": F / 1e3,
+                                "resultant_height_over_H": resultant_height_over_H(r.sigma, z, run.case.panel_height, H)})
 
 
 def active_record(run: KhosraviRun):
     """The wall reading the active figures come from: the first window centred at or past
-    Dis/H = case.dis_over_H_active (Khosravi et al. read the active state at 0.003), or the
+    Dis/H = case.wall_disp_over_H_active (Khosravi et al. read the active state at 0.003), or the
     last one if the wall stopped before it."""
-    target = run.case.dis_over_H_active * run.backfill.H
+    target = run.case.wall_disp_over_H_active * run.backfill.H
     for r in run.history:
         if r.dis >= target * (1.0 - 1e-9):
             return r
@@ -229,13 +229,13 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
         "pymunk": package_versions().get("pymunk"),
         "H_m": H, "gamma_N_per_m3": g, "porosity": bf.porosity, "porosity_interior": bf.interior_porosity,
         "specimen_reused": reused, "specimen": str(cache),
-        "dis_over_H_active": float(act.dis / H),      # where the "active" figures are read
-        "dis_over_H_end": float(run.history[-1].dis / H),  # where the wall stopped (steadiness judged up to it)
+        "wall_disp_over_H_active": float(act.dis / H),      # where the "active" figures are read
+        "wall_disp_over_H_end": float(run.history[-1].dis / H),  # where the wall stopped (steadiness judged up to it)
         "phi_biaxial_source": phi_info.get("from"),
         "dem": {"phi_biaxial": phi, "phi_biaxial_peak": phi_info.get("phi_peak_deg"),
                 "phi_biaxial_cs": phi_info.get("phi_cs_deg"),
                 **_wall_figures(run, rest, act, phi), **_balance(rest, bf)},
-        "readings": {"z_over_H": (d / H).tolist(), "at_rest_over_gammaH": (m_rest / (g * H)).tolist(),
+        "readings": {"depth_over_H": (d / H).tolist(), "at_rest_over_gammaH": (m_rest / (g * H)).tolist(),
                      "active_over_gammaH": (m_act / (g * H)).tolist()},
         "theory_thrust_over_dem_active": {k: p.normal_force() / F_act for k, p in th.items() if k != "jaky"},
     }
@@ -260,9 +260,11 @@ def _wall_figures(run: KhosraviRun, rest, act, phi: float) -> dict:
         "K_at_rest_total": 2 * F_rest / (g * H**2), "K_active_total": 2 * F_act / (g * H**2),
         "active_thrust_N_per_m": F_act, "rankine_thrust_N_per_m": F_rankine,
         "active_thrust_over_rankine": F_act / F_rankine,
+        "resultant_height_over_H_at_rest": resultant_height_over_H(rest.sigma, z, ph, H),
+        "resultant_height_over_H_active": resultant_height_over_H(act.sigma, z, ph, H),
         "active_below_at_rest_everywhere": bool(np.all(m_act < m_rest)),
-        "dis_over_H_steady": steady_displacement(dis, F, 0.9),
-        "dis_over_H_steady_95": steady_displacement(dis, F, 0.95),
+        "wall_disp_over_H_steady": steady_displacement(dis, F, 0.9),
+        "wall_disp_over_H_steady_95": steady_displacement(dis, F, 0.95),
         "PS0_at_rest_over_gammaH": ps0_rest / (g * H),
         "PS0_at_rest_over_jaky": ps0_rest / (K0_jaky * g * z_ps0),
         "PS0_active_over_gammaH": ps0_act / (g * H),
@@ -316,13 +318,13 @@ def _write_tables(rf, run: KhosraviRun, rest) -> None:
     gH = bf.gamma * H
     act = active_record(run)
     for name, r, extra in (("at_rest_panels.csv", rest, ["contacts_per_step"]), ("active_panels.csv", act, [])):
-        rf.write_csv(name, ["panel", "z_m", "z_over_H", "sigma_h_kPa", "tau_kPa", "sigma_over_gammaH"] + extra,
+        rf.write_csv(name, ["panel", "depth_m", "depth_over_H", "sigma_h_kPa", "tau_kPa", "sigma_over_gammaH"] + extra,
                      [[i, z[i], z[i] / H, r.sigma[i] / 1e3, r.tau[i] / 1e3, r.sigma[i] / gH]
                       + ([r.contacts[i]] if extra else []) for i in range(len(z))])
     dis, rows, _ = _readings_series(run, rest)
-    rf.write_csv("readings_vs_displacement.csv", ["dis_over_H", "point", "z_over_H", "sigma_h_kPa",
+    rf.write_csv("readings_vs_displacement.csv", ["wall_disp_over_H", "point", "depth_over_H", "sigma_h_kPa",
                                                    "sigma_over_gammaH"], rows)
-    rf.write_csv("panels_vs_displacement.csv", ["dis_over_H", "panel", "z_m", "sigma_h_kPa", "tau_kPa"],
+    rf.write_csv("panels_vs_displacement.csv", ["wall_disp_over_H", "panel", "depth_m", "sigma_h_kPa", "tau_kPa"],
                  [[dis[k], i, z[i], r.sigma[i] / 1e3, r.tau[i] / 1e3]
                   for k, r in enumerate([rest] + run.history) for i in range(len(z))])
     rf.write_csv("backfilling.csv", ["layer", "surface_m", "panel", "panel_centre_height_m", "sigma_h_kPa"],
@@ -350,12 +352,12 @@ def _write_figures(rf, run: KhosraviRun, rest, result: dict, th: dict) -> None:
                           title=f"At rest, H = {H * 1e3:.0f} mm, {bf.n_grains} disks\n"
                                 f"K upper half {dem['K_at_rest_upper_half']:.3f}")
     plot_khosravi_vs_displacement(dis, {k: np.array(v) for k, v in series.items()},
-                                  rf.file("fig12_pressure_vs_displacement.png"), steady=dem["dis_over_H_steady"],
+                                  rf.file("fig12_pressure_vs_displacement.png"), steady=dem["wall_disp_over_H_steady"],
                                   title=f"H = {H * 1e3:.0f} mm, {bf.n_grains} disks, "
                                         f"wall speed {c.wall_speed * 1e3:g} mm/s")
     plot_khosravi_profiles(d / H, m_rest / gH, m_act / gH, [p for k, p in th.items() if k != "jaky"],
                            rf.file("fig13_profiles.png"), jaky_K=dem["jaky_K0"], gamma=g, H=H,
-                           dis_over_H=act.dis / H, title=f"phi_biaxial = {dem['phi_biaxial']:.1f} deg, delta = phi")
+                           wall_disp_over_H=act.dis / H, title=f"phi_biaxial = {dem['phi_biaxial']:.1f} deg, delta = phi")
     if bf.layer_readings:
         plot_khosravi_backfilling(bf.layer_readings, rf.file("fig09_backfilling.png"), gamma=g, H=H,
                                   panel_height=c.panel_height,
@@ -374,6 +376,6 @@ def validate_khosravi(*, out_dir: str | Path, root: str | Path = "runs", quiet: 
     ``khosravi.md`` with the figures in ``out_dir`` (docs/validation by default)."""
     from studies.khosravi.report import write_report
 
-    case = case or KhosraviCase(dis_over_H_max=VALIDATION_DIS_OVER_H)
+    case = case or KhosraviCase(wall_disp_over_H_max=VALIDATION_DIS_OVER_H)
     result, rf = compare_khosravi(case, root=root, quiet=quiet, rrd=rrd)
     return write_report(result, rf, Path(out_dir), REFERENCE)

@@ -26,7 +26,7 @@ def _sweeps(res: dict) -> str:
 
 def _dis_active(result: dict) -> str:
     """Dis/H of the record the active figures are read at (results before it was stored: n/a)."""
-    x = result.get("dis_over_H_active")
+    x = result.get("wall_disp_over_H_active")
     return "n/a" if x is None else f"{x:.4g}"
 
 
@@ -38,8 +38,8 @@ def assess(result: dict, ref: dict) -> list[dict]:
     rel = abs(d["K_at_rest_upper_half_over_jaky"] - 1.0)
     # steadiness is measured against the run's last value: only a run that goes well past
     # the target Dis/H can show the pressure still falling after it
-    end = result.get("dis_over_H_end", result.get("dis_over_H_active"))
-    judged = end is not None and end >= 2 * tg["dis_over_H_steady_at_most"]
+    end = result.get("wall_disp_over_H_end", result.get("wall_disp_over_H_active"))
+    judged = end is not None and end >= 2 * tg["wall_disp_over_H_steady_at_most"]
     return [
         check("at-rest K, upper half, within 15 % of 1 - sin(phi_biaxial)",
               f"K = {d['K_at_rest_upper_half']:.3f} vs {d['jaky_K0']:.3f} "
@@ -57,10 +57,10 @@ def assess(result: dict, ref: dict) -> list[dict]:
               f"{d['active_thrust_over_rankine']:.3f} x Rankine",
               d["active_thrust_over_rankine"] < tg["active_thrust_over_rankine_below"]),
         check("steady state reached by Dis/H <= 0.003",
-              f"Dis/H = {d['dis_over_H_steady']:.5f} (90 % of the drop to the run's end), "
-              f"{d['dis_over_H_steady_95']:.5f} (95 %)"
+              f"Dis/H = {d['wall_disp_over_H_steady']:.5f} (90 % of the drop to the run's end), "
+              f"{d['wall_disp_over_H_steady_95']:.5f} (95 %)"
               + ("" if judged else "; the run ends at the target, so this cannot show a later fall"),
-              d["dis_over_H_steady"] <= tg["dis_over_H_steady_at_most"] if judged else None),
+              d["wall_disp_over_H_steady"] <= tg["wall_disp_over_H_steady_at_most"] if judged else None),
         check("vertical reactions = weight", f"{d['weight_balance']:.4f}",
               within(d["weight_balance"], 1.0, tg["weight_balance_abs_tol"])),
         _time_check(result, tg["case_wall_time_min_at_most"]),
@@ -141,7 +141,7 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         f"* Paper: {ref['results']['thrust']}. Here: theory thrust / DEM active thrust = "
         + ", ".join(f"{k} {v:.2f}" for k, v in res["theory_thrust_over_dem_active"].items()) + ".",
         f"* Paper: the pressure drops sharply to Dis/H = 0.0002-0.0005, then is steady. Here: 90 % of the drop "
-        f"by Dis/H = {d['dis_over_H_steady']:.5f}.",
+        f"by Dis/H = {d['wall_disp_over_H_steady']:.5f}.",
         "",
         "Reading points (4 panels each; z = depth of their centre below the fill surface) as sigma_h / (gamma H):",
         "",
@@ -149,7 +149,7 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         "|---|---|---|",
     ]
     r = res["readings"]
-    for zh, a, b in zip(r["z_over_H"], r["at_rest_over_gammaH"], r["active_over_gammaH"]):
+    for zh, a, b in zip(r["depth_over_H"], r["at_rest_over_gammaH"], r["active_over_gammaH"]):
         lines.append(f"| {zh:.3f} | {a:.4f} | {b:.4f} |")
     lines += ["", "## Figures", ""]
     for name, rel in figs.items():

@@ -149,7 +149,7 @@ class KhosraviRun:
     # ------------------------------------------------------------------ stage 3
     def translate(self) -> Iterator[WallReading]:
         """Move the wall away from the backfill at case.wall_speed to
-        Dis/H = case.dis_over_H_max (H = measured surface height), one reading per window."""
+        Dis/H = case.wall_disp_over_H_max (H = measured surface height), one reading per window."""
         c, sim = self.case, self.sim
         if self.rest is None:
             self.at_rest()
@@ -160,7 +160,7 @@ class KhosraviRun:
                 r = self.reading()
                 self.history.append(r)
                 yield r
-                if r.dis / H >= c.dis_over_H_max:
+                if r.dis / H >= c.wall_disp_over_H_max:
                     break
         finally:
             sim.drive("wall", None)
@@ -184,21 +184,3 @@ class KhosraviRun:
                                  panel_height=self.case.panel_height)
         depth = self.backfill.H - (bottoms[starts] + 2 * self.case.panel_height)
         return depth, means, float(r.sigma[0])
-
-
-def normal_thrust(sigma: np.ndarray, depth: np.ndarray, panel_height: float) -> float:
-    """Normal force on the wall below the surface [N/m]: sum sigma_i L_i over panels
-    whose centre is below the surface (L = panel height)."""
-    return float(np.sum(sigma[depth > 0]) * panel_height)
-
-
-def k_upper_half(sigma: np.ndarray, depth: np.ndarray, panel_height: float, gamma: float,
-                 H: float) -> float:
-    """Lateral earth pressure coefficient of the upper half of the wall: the normal force
-    on the panels with centres at 0 < z <= H/2, over the geostatic force on the same
-    depth range, gamma (H/2)^2 / 2 (a force-weighted mean of sigma_h / (gamma z))."""
-    up = (depth > 0) & (depth <= H / 2)
-    lo_edge = np.clip(depth[up] - panel_height / 2, 0.0, None)
-    hi_edge = depth[up] + panel_height / 2
-    geo = gamma * np.sum(hi_edge**2 - lo_edge**2) / 2.0
-    return float(np.sum(sigma[up]) * panel_height / geo)

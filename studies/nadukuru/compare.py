@@ -102,13 +102,13 @@ def _move_and_record(case: NadukuruCase, spec, cmp: Comparison, recorder, every:
     def on_frame(frame, sample):
         frames.setdefault("first", frame)
         frames["last"] = frame
-        recorder.log_frame(frame, wall_disp_over_H=sample.disp_over_H,
+        recorder.log_frame(frame, wall_disp_over_H=sample.wall_disp_over_H,
                            profile=(1.0 - cmp.centres, sample.segment_stress / cmp.norm))
 
     def on_sample(sample):
         recorder.log_metrics(sample.step, sample.time,
-                             {"K": sample.K, "centroid": sample.centroid, "thrust_kN": sample.normal_kN,
-                              "panel_stress_kPa": sample.segment_stress / 1e3}, sample.disp_over_H)
+                             {"K": sample.K, "resultant_height_over_H": sample.resultant_height_over_H, "thrust_kN": sample.thrust_kN,
+                              "panel_stress_kPa": sample.segment_stress / 1e3}, sample.wall_disp_over_H)
 
     frame_every = max(1, every) * case.movement.record_every * 10
     hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame, frame_every=frame_every,
@@ -116,7 +116,7 @@ def _move_and_record(case: NadukuruCase, spec, cmp: Comparison, recorder, every:
     if frames:          # displacement field over the whole movement (Fig. 3a)
         f0, f1 = frames["first"], frames["last"]
         recorder.log_displacement(f0.positions, f1.positions, step=f1.step, time=f1.time,
-                                  disp_over_H=hist["disp_over_H"][-1])
+                                  wall_disp_over_H=hist["wall_disp_over_H"][-1])
     return hist, frames
 
 
@@ -124,9 +124,9 @@ def _write_tables(folder, case: NadukuruCase, hist: dict, cmp: Comparison) -> No
     """history.csv (K, resultant height and segment stresses against Delta/H) and
     segments.csv (the active stresses of the segments)."""
     seg_cols = [f"segment{k + 1}_sigma_kPa" for k in range(case.wall.segments)]
-    folder.write_csv("history.csv", ["disp_over_H", "time_s", "step", "K", "resultant_height_over_H"] + seg_cols,
+    folder.write_csv("history.csv", ["wall_disp_over_H", "time_s", "step", "K", "resultant_height_over_H"] + seg_cols,
                      [[d, t, s, k, c, *(seg / 1e3)] for d, t, s, k, c, seg in
-                      zip(hist["disp_over_H"], hist["time"], hist["step"], hist["K"], hist["centroid"],
+                      zip(hist["wall_disp_over_H"], hist["time"], hist["step"], hist["K"], hist["resultant_height_over_H"],
                           hist["segment_stress"])])
     active = hist["segment_stress_active"]
     folder.write_csv("segments.csv", ["segment", "centre_height_over_H", "sigma_active_kPa",
@@ -142,16 +142,16 @@ def _write_figures(folder, case: NadukuruCase, wall_kind: str, spec, hist: dict,
 
     mode = MODE_TITLES[case.movement.mode]
     label = f"{case.movement.mode} ({wall_kind})"
-    plot_load_history({label: (hist["disp_over_H"], hist["K"])}, folder.file("fig4_K.png"),
+    plot_load_history({label: (hist["wall_disp_over_H"], hist["K"])}, folder.file("fig4_K.png"),
                       paper={label: cmp.paper["K"]} if cmp.paper["K"] else None, at_rest=spec.K_at_rest,
                       title=f"Nadukuru & Michalowski Fig. 4: {mode}, {wall_kind} wall")
     plot_segment_stress({f"{label} DEM": hist["segment_stress_active"][::-1] / cmp.norm}, cmp.edges,
                         folder.file("fig5_segments.png"),
                         theory={t["name"]: (np.array([0.0, 1.0]), np.array([0.0, t["K"]]))
                                 for t in cmp.theories if t["K"] is not None and t["name"] in ("coulomb", "rankine")},
-                        title=f"Fig. 5(a): stress on each segment at Delta/H = {case.movement.disp_over_H:g}")
+                        title=f"Fig. 5(a): stress on each segment at Delta/H = {case.movement.wall_disp_over_H:g}")
     if frames:
-        end = hist["disp_over_H"][-1]
+        end = hist["wall_disp_over_H"][-1]
         plot_displacement_field(frames["first"].positions, frames["last"].positions,
                                 folder.file("fig3a_displacements.png"),
                                 title=f"Fig. 3(a): displacements x15 at Delta/H = {end:.4f}\n{mode}, {wall_kind} wall")
@@ -166,10 +166,10 @@ def _result(case: NadukuruCase, wall_kind: str, spec, cached: bool, hist: dict, 
         "case": "nadukuru", "mode": case.movement.mode, "wall": wall_kind,
         "particles": spec.n_spheres, "bodies": spec.n_bodies, "seed": case.seed,
         "specimen_cached": cached,
-        "dem": {"K": hist["K_active"], "resultant_height_over_H": hist["centroid_active"],
-                "K_at_rest": spec.K_at_rest, "resultant_height_over_H_at_rest": spec.centroid_at_rest,
-                "porosity": spec.porosity, "at_rest_wall_load_kN": spec.wall_load_kN * 0.5 / spec.width,
-                "disp_over_H_steady": hist["disp_over_H_steady"],
+        "dem": {"K": hist["K_active"], "resultant_height_over_H": hist["resultant_height_over_H_active"],
+                "K_at_rest": spec.K_at_rest, "resultant_height_over_H_at_rest": spec.resultant_height_over_H_at_rest,
+                "porosity": spec.porosity, "thrust_at_rest_kN_per_0.5m": spec.thrust_at_rest_kN * 0.5 / spec.width,
+                "wall_disp_over_H_steady": hist["wall_disp_over_H_steady"],
                 "segment_stress_over_rho_g_1mn_H": (hist["segment_stress_active"] / cmp.norm).tolist()},
         "paper": cmp.paper, "theory": cmp.theories, "phi_deg": cmp.phi, "phi_source": cmp.phi_source,
         "provenance": {"particles": spec.n_spheres, "seed": case.seed, "dt_s": spec.dt,
@@ -185,7 +185,7 @@ def _case_markdown(case: NadukuruCase, wall_kind: str, spec, phi: float, phi_src
     return (f"# Nadukuru & Michalowski (2012): {MODE_TITLES[case.movement.mode]}, {wall_kind} wall\n\n"
             f"* {spec.n_spheres} spheres ({spec.n_bodies} bodies, {case.specimen.clump_fraction:.0%} clumps), "
             f"grain scale {spec.grain_scale:.2f}, porosity {spec.porosity:.3f}\n"
-            f"* at rest: K {spec.K_at_rest:.3f}, resultant at {spec.centroid_at_rest:.3f} H\n"
+            f"* at rest: K {spec.K_at_rest:.3f}, resultant at {spec.resultant_height_over_H_at_rest:.3f} H\n"
             f"* wall H {case.wall.height} m, width {spec.width:.3f} m, {case.wall.segments} segments, "
             f"friction {case.wall.friction}\n* theory phi {phi:.1f} deg ({phi_src})\n")
 

@@ -6,9 +6,9 @@ Stages (each a function; the CLI strings them together):
 1. ``prepare_specimen``: generate bodies loosely above the box, rain them under gravity
    (optionally with a lower "deposition" friction, a standard way to densify), trim to
    the wall height, restore the particle friction, settle; report porosity, at-rest K,
-   centroid and wall load. The settled state is cached so all modes start from it.
+   resultant_height_over_H and wall load. The settled state is cached so all modes start from it.
 2. ``move_wall``: translate or rotate the wall quasi-statically to Delta/H; yields the
-   load history (K, centroid, segment stresses) and frames for the recording.
+   load history (K, resultant_height_over_H, segment stresses) and frames for the recording.
 3. ``theory_rows``: Coulomb, Rankine, DSM for the mode, the paper's DEM, Fang & Ishibashi.
 
 Geometry: wall face at x = 0 (normal +x, backfill at x > 0), floor z = 0, far wall at
@@ -36,6 +36,7 @@ from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 from dem3d import measure
 
+from ..config import with_current_names
 from ..measures import steady_displacement
 from ..store import Store, atomic_write, content_key, load_npz, npz_bytes
 
@@ -141,7 +142,7 @@ class WallSetup:
 
 @dataclass(frozen=True)
 class Movement:
-    """Wall movement: mode T | RB | RT | mixed, to disp_over_H (Delta at the edge opposite
+    """Wall movement: mode T | RB | RT | mixed, to wall_disp_over_H (Delta at the edge opposite
     the pivot, paper 0.008), at ``speed`` [m/s] of that edge after a ``ramp`` [s].
 
     local_damping: PFC local damping while the wall moves (0 = viscous contact damping
@@ -150,7 +151,7 @@ class Movement:
     """
 
     mode: Literal["T", "RB", "RT", "mixed"] = "T"
-    disp_over_H: float = 0.008
+    wall_disp_over_H: float = 0.008
     speed: float = 0.02
     ramp: float = 0.05
     record_every: int = 50
@@ -159,7 +160,7 @@ class Movement:
     def __post_init__(self):
         if self.mode not in MODES:
             raise InvalidParameter("mode", self.mode, " | ".join(MODES))
-        require_number("disp_over_H", self.disp_over_H, 0, 0.1)
+        require_number("wall_disp_over_H", self.wall_disp_over_H, 0, 0.1)
         require_number("speed", self.speed, 0, 1.0, unit="m/s")
         require_number("local_damping", self.local_damping, 0, 1, lo_open=False)
 
@@ -253,8 +254,8 @@ class Specimen:
     state: dict                  # dem3d Simulation.to_arrays()
     porosity: float
     K_at_rest: float
-    centroid_at_rest: float      # height of the resultant / H
-    wall_load_kN: float          # total normal load on the wall [kN] (width w)
+    resultant_height_over_H_at_rest: float      # height of the resultant / H
+    thrust_at_rest_kN: float          # total normal load on the wall [kN] (width w)
     stress_ratio: float          # sigma_h on the wall / sigma_v on the floor, same depth band
     n_spheres: int
     n_bodies: int
@@ -409,8 +410,8 @@ def _measure_at_rest(sim, rec: SpecimenRecipe, wall: WallSetup, scale: float, dt
     gamma = rec.density * (1.0 - n) * G
     K0 = load.normal / (0.5 * gamma * H**2 * w)
     ratio = _stress_ratio(sim, f, H, w, L)
-    return Specimen(state=sim.to_arrays(), porosity=n, K_at_rest=K0, centroid_at_rest=load.height / H,
-                    wall_load_kN=load.normal / 1e3, stress_ratio=ratio, n_spheres=sim.n_spheres,
+    return Specimen(state=sim.to_arrays(), porosity=n, K_at_rest=K0, resultant_height_over_H_at_rest=load.height / H,
+                    thrust_at_rest_kN=load.normal / 1e3, stress_ratio=ratio, n_spheres=sim.n_spheres,
                     n_bodies=int(len(np.unique(f.body_id))), grain_scale=scale, dt=dt, steps=steps,
                     sim_time=sim.time, settle_ratio=settle_ratio, fill_height=_fill_height(sim), width=w,
                     stages=stages)
@@ -535,19 +536,19 @@ def _ramp_distance(speed: float, ramp: float, t: float) -> float:
 
 @dataclass(frozen=True)
 class LoadSample:
-    disp_over_H: float
+    wall_disp_over_H: float
     time: float
     step: int
     K: float
-    centroid: float              # height of the resultant / H
-    normal_kN: float
+    resultant_height_over_H: float              # height of the resultant / H
+    thrust_kN: float
     segment_stress: np.ndarray   # (segments,) Pa, bottom to top
 
 
 def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, progress=None,
               resume: dict | None = None, checkpoint=None,
               checkpoint_every_s: float = 300.0) -> Iterator[tuple[LoadSample, object | None]]:
-    """Move the wall from the settled specimen to ``disp_over_H``; yields
+    """Move the wall from the settled specimen to ``wall_disp_over_H``; yields
     (LoadSample averaged over ``record_every`` steps, Frame or None) pairs.
 
     ``checkpoint(state)`` is called every ``checkpoint_every_s`` of wall-clock time with
@@ -575,7 +576,7 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
         if emit:
             since_frame = 0
         if task is not None:
-            progress.update(task, advance=m, status=f"Delta/H {sample.disp_over_H:.4f}  K {sample.K:.3f}")
+            progress.update(task, advance=m, status=f"Delta/H {sample.wall_disp_over_H:.4f}  K {sample.K:.3f}")
         yield sample, (dem3d.frame(sim) if emit else None)
         # after the consumer has taken this sample, so a checkpoint holds it too
         if checkpoint is not None and _time.perf_counter() - last_checkpoint > checkpoint_every_s:
@@ -606,9 +607,9 @@ def _movement_simulation(case: NadukuruCase, specimen: Specimen, wall: WallSetup
 
 
 def _movement_duration(mv: Movement, H: float) -> float:
-    """Time [s] for the edge that defines Delta to reach disp_over_H * H [m] when its
+    """Time [s] for the edge that defines Delta to reach wall_disp_over_H * H [m] when its
     speed ramps linearly to ``speed`` over ``ramp`` (``_ramp_distance`` inverted)."""
-    target = mv.disp_over_H * H
+    target = mv.wall_disp_over_H * H
     return mv.ramp / 2.0 + target / mv.speed if target / mv.speed > mv.ramp / 2 else \
         math.sqrt(2.0 * target * mv.ramp / mv.speed)
 
@@ -643,10 +644,10 @@ REFERENCE = json.loads((Path(__file__).parent / "reference.json").read_text())
 def paper_values(mode: str, wall: str) -> dict:
     """The paper's DEM (Tables 1-2) and Fang & Ishibashi (Table 1) for a mode and wall."""
     row = REFERENCE.get(wall, {}).get(mode, {})
-    out = {"K": row.get("K"), "resultant_height_over_H": row.get("centroid"),
+    out = {"K": row.get("K"), "resultant_height_over_H": row.get("resultant_height_over_H"),
            "source": f"Nadukuru & Michalowski (2012) Table {'1' if wall == 'rough' else '2'}"}
     if "FI_K" in row:
-        out["fang_ishibashi"] = {"K": row["FI_K"], "resultant_height_over_H": row["FI_centroid"],
+        out["fang_ishibashi"] = {"K": row["FI_K"], "resultant_height_over_H": row["FI_resultant_height_over_H"],
                                  "source": "Fang & Ishibashi (1986), interpolated to phi = 39 deg (Table 1)"}
     return out
 
@@ -655,7 +656,7 @@ def theory_rows(mode: str, phi_deg: float, wall_friction: float, gamma: float, H
                 phi_source: str) -> list[dict]:
     """The theories beside the DEM, as the *normal* load coefficient on the wall
     (comparable with eq. 6, which uses the normal force): Coulomb Ka cos(delta),
-    Rankine Ka, Jaky K0, and the DSM of the mode (Kh, centroid)."""
+    Rankine Ka, Jaky K0, and the DSM of the mode (Kh, resultant_height_over_H)."""
     from analytic import Soil, Wall, coulomb, jaky, rankine
     from analytic.slices import mode_case, solve
 
@@ -694,7 +695,7 @@ def load_or_prepare(case: NadukuruCase, cache_dir: Path, progress=None) -> tuple
     found = store.load_arrays(key)
     if found is not None:
         state, info = found
-        return Specimen(state=state, **info), True
+        return Specimen(state=state, **with_current_names(info)), True
     spec = prepare_specimen(case, progress)
     store.save_arrays(key, spec.state, {k: (float(v) if isinstance(v, (np.floating, float)) else v)
                                         for k, v in dataclasses.asdict(spec).items() if k != "state"})
@@ -705,7 +706,7 @@ def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_fram
               frame_every: int = 0, progress=None, checkpoint_path: Path | None = None,
               checkpoint_every_s: float = 300.0) -> dict:
     """Move the wall and collect the load history; returns arrays and the active-state
-    figures (K and centroid averaged over the last 10 % of the movement).
+    figures (K and resultant_height_over_H averaged over the last 10 % of the movement).
 
     With ``checkpoint_path`` the engine state and the history so far are saved there
     every ``checkpoint_every_s`` seconds, and an existing checkpoint is resumed from:
@@ -715,15 +716,15 @@ def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_fram
     if checkpoint_path is not None and Path(checkpoint_path).exists():
         data = load_npz(checkpoint_path)
         resume = {k: v for k, v in data.items() if not k.startswith("hist.")}
-        h = {k[5:]: v for k, v in data.items() if k.startswith("hist.")}
+        h = with_current_names({k[5:]: v for k, v in data.items() if k.startswith("hist.")})
         samples = [LoadSample(float(d), float(t), int(st), float(K), float(c), float(nk), seg)
-                   for d, t, st, K, c, nk, seg in zip(h["disp"], h["time"], h["step"], h["K"], h["centroid"],
+                   for d, t, st, K, c, nk, seg in zip(h["disp"], h["time"], h["step"], h["K"], h["resultant_height_over_H"],
                                                       h["normal"], h["seg"])]
 
     def save(state):
-        hist = {"hist.disp": [s.disp_over_H for s in samples], "hist.time": [s.time for s in samples],
+        hist = {"hist.disp": [s.wall_disp_over_H for s in samples], "hist.time": [s.time for s in samples],
                 "hist.step": [s.step for s in samples], "hist.K": [s.K for s in samples],
-                "hist.centroid": [s.centroid for s in samples], "hist.normal": [s.normal_kN for s in samples],
+                "hist.resultant_height_over_H": [s.resultant_height_over_H for s in samples], "hist.normal": [s.thrust_kN for s in samples],
                 "hist.seg": np.array([s.segment_stress for s in samples])}
         atomic_write(checkpoint_path, npz_bytes({**state, **{k: np.asarray(v) for k, v in hist.items()}}))
 
@@ -735,13 +736,13 @@ def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_fram
             on_sample(sample)
         if frame is not None and on_frame is not None:
             on_frame(frame, sample)
-    disp = np.array([s.disp_over_H for s in samples])
+    disp = np.array([s.wall_disp_over_H for s in samples])
     K = np.array([s.K for s in samples])
-    cen = np.array([s.centroid for s in samples])
+    cen = np.array([s.resultant_height_over_H for s in samples])
     seg = np.array([s.segment_stress for s in samples])
     tail = disp >= 0.9 * disp[-1]
-    return {"disp_over_H": disp, "K": K, "centroid": cen, "segment_stress": seg,
+    return {"wall_disp_over_H": disp, "K": K, "resultant_height_over_H": cen, "segment_stress": seg,
             "time": np.array([s.time for s in samples]), "step": np.array([s.step for s in samples]),
-            "K_active": float(K[tail].mean()), "centroid_active": float(cen[tail].mean()),
+            "K_active": float(K[tail].mean()), "resultant_height_over_H_active": float(cen[tail].mean()),
             "segment_stress_active": seg[tail].mean(axis=0),
-            "disp_over_H_steady": steady_disp_over_H(disp, K)}
+            "wall_disp_over_H_steady": steady_disp_over_H(disp, K)}

@@ -19,6 +19,7 @@ import numpy as np
 
 from .model import G, MODES, Movement, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
     rough_or_smooth, theory_rows
+from ..config import with_current_names
 from ..runfolder import package_versions, git_revision, to_plain
 
 #: the validation targets (reference.json "targets"): K and h/H against Tables 1-2
@@ -88,8 +89,8 @@ def _validate_wall(case: NadukuruCase, wall_kind: str, modes, phi: float, phi_sr
     tp = time.perf_counter()
     spec, cached = load_or_prepare(case, root / "nadukuru" / "specimens", progress)
     entry = {"specimen": {"particles": spec.n_spheres, "bodies": spec.n_bodies, "porosity": spec.porosity,
-                          "K_at_rest": spec.K_at_rest, "centroid_at_rest": spec.centroid_at_rest,
-                          "at_rest_load_kN_per_0.5m": spec.wall_load_kN * 0.5 / spec.width,
+                          "K_at_rest": spec.K_at_rest, "resultant_height_over_H_at_rest": spec.resultant_height_over_H_at_rest,
+                          "thrust_at_rest_kN_per_0.5m": spec.thrust_at_rest_kN * 0.5 / spec.width,
                           "stress_ratio": spec.stress_ratio, "dt_s": spec.dt, "seed": case.seed,
                           "wall_time_s": None if cached else time.perf_counter() - tp, "cached": cached},
              "modes": {}}
@@ -99,7 +100,7 @@ def _validate_wall(case: NadukuruCase, wall_kind: str, modes, phi: float, phi_sr
     for mode in modes:
         row, hist, last = _validate_mode(case, spec, mode, wall_kind, phi, phi_src, gamma, progress)
         entry["modes"][mode] = row
-        curves[mode] = (hist["disp_over_H"], hist["K"])
+        curves[mode] = (hist["wall_disp_over_H"], hist["K"])
         segs[mode] = hist["segment_stress_active"][::-1] / (gamma * case.wall.height)
         if "f" in last and mode == "RT":
             chains = (last["first"], last["f"])
@@ -123,8 +124,8 @@ def _validate_mode(case: NadukuruCase, spec, mode: str, wall_kind: str, phi: flo
     hist = run_modes(c, spec, frame_every=10**9 if mode != "RT" else 10**5, progress=progress,
                      on_frame=lambda f, s: (last.setdefault("first", f), last.__setitem__("f", f)))
     paper = paper_values(mode, wall_kind)
-    row = {"K": hist["K_active"], "resultant_height_over_H": hist["centroid_active"],
-           "disp_over_H_steady": hist["disp_over_H_steady"], "wall_time_s": time.perf_counter() - tm,
+    row = {"K": hist["K_active"], "resultant_height_over_H": hist["resultant_height_over_H_active"],
+           "wall_disp_over_H_steady": hist["wall_disp_over_H_steady"], "wall_time_s": time.perf_counter() - tm,
            "particles": spec.n_spheres, "seed": case.seed, "paper": paper,
            "theory": theory_rows(mode, phi, case.wall.friction, gamma, case.wall.height,
                                  phi_src)}
@@ -157,7 +158,7 @@ def _draw_wall_figures(out_dir: Path, wall_kind: str, case: NadukuruCase, modes,
                       at_rest=spec.K_at_rest, title=f"K vs wall movement, {wall_kind} wall ({spec.n_spheres} spheres)")
     edges = np.linspace(0, 1, case.wall.segments + 1)
     plot_segment_stress(segs, edges, out_dir / f"nadukuru_fig5_{wall_kind}.png",
-                        title=f"Segment stress at Delta/H = {case.movement.disp_over_H}, {wall_kind} wall")
+                        title=f"Segment stress at Delta/H = {case.movement.wall_disp_over_H}, {wall_kind} wall")
     if chains is not None:
         plot_force_chains(chains[1], out_dir / f"nadukuru_chains_RT_{wall_kind}.png",
                           title=f"Rotation about the top, {wall_kind} wall: force chains at the end")
@@ -189,7 +190,7 @@ def _keep_other_walls(report: dict, previous: Path) -> dict:
             entry["rate_check"]["git"] = report["git"]
     if not previous.exists():
         return report
-    old = json.loads(previous.read_text())
+    old = with_current_names(json.loads(previous.read_text()))
     for wall, old_entry in old.get("walls", {}).items():
         old_git = old_entry.get("git", old.get("git"))
         if wall not in report["walls"]:
@@ -213,6 +214,7 @@ def markdown(rep: dict, discussion: str | None = None, figures_dir: Path | None 
     """The report; ``discussion`` (hand-written, docs/validation/nadukuru_discussion.md)
     is appended so the reasons for a miss sit next to the generated numbers. Optional
     figures are linked when they exist in ``figures_dir``."""
+    rep = with_current_names(rep)       # a report written before the glossary reads too
     L = _markdown_head(rep)
     for wall, e in rep["walls"].items():
         L += _markdown_wall(wall, e, rep["git"], figures_dir)
@@ -253,9 +255,9 @@ def _markdown_wall(wall: str, e: dict, git: str, figures_dir: Path | None) -> li
     L = [f"## {wall.capitalize()} wall", "",
          f"Specimen: {s['particles']} spheres ({s['bodies']} bodies), seed {s['seed']}, dt {s['dt_s']:.2e} s, "
          f"porosity **{s['porosity']:.3f}** (paper ~0.35), at-rest K **{s['K_at_rest']:.3f}** (paper 0.385; "
-         f"target window {_window('K_at_rest_window')}), centroid {s['centroid_at_rest']:.3f} (paper 0.323), "
+         f"target window {_window('K_at_rest_window')}), resultant_height_over_H {s['resultant_height_over_H_at_rest']:.3f} (paper 0.323), "
          f"at-rest load "
-         f"{s['at_rest_load_kN_per_0.5m']:.1f} kN per 0.5 m (paper ~15.4)"
+         f"{s['thrust_at_rest_kN_per_0.5m']:.1f} kN per 0.5 m (paper ~15.4)"
          + (f", prepared in {s['wall_time_s'] / 60:.1f} min." if s.get("wall_time_s") else " (cached)."), "",
          "| mode | DEM K | paper K | DEM h/H | paper h/H | within tol. | steady by Delta/H | wall time | git |",
          "|---|---|---|---|---|---|---|---|---|"]
@@ -291,5 +293,5 @@ def _mode_table_row(m: str, r: dict, git: str) -> str:
           "yes" if r.get("K_within_tol") and r.get("height_within_tol") else
           "K " + ("ok" if r.get("K_within_tol") else "MISS") + ", h " + ("ok" if r.get("height_within_tol") else "MISS"))
     return (f"| {m} | {r['K']:.3f} | {p['K']} | {r['resultant_height_over_H']:.3f} | "
-            f"{p['resultant_height_over_H']} | {ok} | {r['disp_over_H_steady']:.4f} | {r['wall_time_s'] / 60:.1f} min | "
+            f"{p['resultant_height_over_H']} | {ok} | {r['wall_disp_over_H_steady']:.4f} | {r['wall_time_s'] / 60:.1f} min | "
             f"{r.get('git', git)} |")

@@ -7,10 +7,10 @@ from studies.khosravi.case import KhosraviCase
 from studies.khosravi.compare import active_record
 
 
-def _run(dis_over_H_max: float, H: float = 0.3):
-    case = KhosraviCase(dis_over_H_max=dis_over_H_max)
+def _run(wall_disp_over_H_max: float, H: float = 0.3):
+    case = KhosraviCase(wall_disp_over_H_max=wall_disp_over_H_max)
     step = 0.0005 * H                       # one reading per Dis/H 0.0005
-    n = int(round(dis_over_H_max * H / step))
+    n = int(round(wall_disp_over_H_max * H / step))
     history = [SimpleNamespace(dis=(k + 1) * step) for k in range(n)]
     return SimpleNamespace(case=case, backfill=SimpleNamespace(H=H), history=history)
 

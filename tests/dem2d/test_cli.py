@@ -7,7 +7,7 @@ import pytest
 
 import cli
 
-TINY = ["compare", "khosravi", "--H", "0.1", "--particles-scale", "5", "--set", "dis_over_H_max=0.001",
+TINY = ["compare", "khosravi", "--H", "0.1", "--particles-scale", "5", "--set", "wall_disp_over_H_max=0.001",
         "--quiet", "--json"]
 
 
@@ -25,7 +25,7 @@ def test_bad_overrides_exit_2_with_one_line(capsys, tmp_path):
 def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, tmp_path):
     assert cli.main(TINY + ["--out", str(tmp_path)]) == 0
     res = json.loads(capsys.readouterr().out)
-    for key in ("K_at_rest_upper_half", "active_thrust_over_rankine", "dis_over_H_steady", "phi_biaxial"):
+    for key in ("K_at_rest_upper_half", "active_thrust_over_rankine", "wall_disp_over_H_steady", "phi_biaxial"):
         assert key in res["dem"]
     assert res["specimen_reused"] is False
     runs = [p for p in (tmp_path / "khosravi").iterdir() if not p.name.startswith("_")]

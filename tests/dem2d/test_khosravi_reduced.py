@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 from dem2d.measure import readings
-from studies.khosravi.run import KhosraviRun, k_upper_half, normal_thrust
+from studies.khosravi.run import KhosraviRun
+from studies.measures import k_upper_half, normal_thrust
 from dem2d.sim import restore
 
 REF = json.loads(Path(importlib.util.find_spec("studies.khosravi").submodule_search_locations[0], "reference.json").read_text())
@@ -53,7 +54,7 @@ def test_backfill_fills_the_box_to_H(settled_box):
 #: at 5x coarser grains the wall must move ~5x further (in Dis/H) than at full size to
 #: reach the active state, because rigid grains need a displacement of a fraction of a
 #: grain to rearrange (docs/dem2d.md); 5 mm/s keeps the inertial number ~5e-4
-ACTIVE = dict(dis_over_H_max=0.01, wall_speed=5e-3)
+ACTIVE = dict(wall_disp_over_H_max=0.01, wall_speed=5e-3)
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +78,7 @@ def test_pressure_falls_when_the_wall_moves_away(translated):
     run, rest, thrust = translated["base"]
     z = run.panel_depths()
     f_rest = normal_thrust(rest.sigma, z, run.case.panel_height)
-    assert run.history[-1].dis / run.backfill.H >= ACTIVE["dis_over_H_max"]
+    assert run.history[-1].dis / run.backfill.H >= ACTIVE["wall_disp_over_H_max"]
     assert np.mean(thrust[-3:]) < 0.85 * f_rest
     # and below at rest at every reading point
     _, m_rest, _ = run.readings_of(rest)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dem2d.measure import panel_stresses, readings, stress_in_bands, weight_normalised_unbalance
-from studies.khosravi.run import k_upper_half, normal_thrust
+from studies.measures import k_upper_half, normal_thrust
 from studies.measures import steady_displacement
 
 
@@ -57,3 +57,18 @@ def test_love_stress_of_a_vertical_chain():
     s = stress_in_bands(pos, np.array([0]), np.array([1]), J_on_a, dt, -0.01, 0.01, np.array([-0.01, 0.01]))
     assert s[0, 1, 1] == pytest.approx(W * 0.002 / (0.02 * 0.02))
     assert s[0, 0, 0] == 0.0 and s[0, 0, 1] == 0.0
+
+
+def test_resultant_height_of_a_linear_profile():
+    """sigma proportional to depth on N panels of height L = H/N, each force at its centre
+    z_i = (i + 1/2) L: h/H = 1 - sum z^2 / (H sum z) = 1/3 + 1/(6 N^2) (the midpoint rule
+    of the continuous 1/3), and panels above the surface carry nothing."""
+    from studies.measures import resultant_height_over_H
+
+    N, H = 30, 0.3
+    L = H / N
+    depth = (np.arange(N) + 0.5) * L
+    above = np.array([-0.5 * L, -1.5 * L])              # two panels above the fill surface
+    sigma = np.concatenate([depth, [5.0, 5.0]])
+    got = resultant_height_over_H(sigma, np.concatenate([depth, above]), L, H)
+    assert got == pytest.approx(1.0 / 3.0 + 1.0 / (6 * N**2), rel=1e-12)

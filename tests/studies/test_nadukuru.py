@@ -57,18 +57,18 @@ def test_translation_active_below_at_rest(specimen, modes):
 
 
 def test_resultant_heights_ordered_RB_T_RT(modes):
-    h = [modes[m]["centroid_active"] for m in ("RB", "T", "RT")]
+    h = [modes[m]["resultant_height_over_H_active"] for m in ("RB", "T", "RT")]
     assert h[0] < h[1] < h[2], h
 
 
 def test_translation_steady_before_half_a_percent(modes):
-    assert modes["T"]["disp_over_H_steady"] < 0.005
+    assert modes["T"]["wall_disp_over_H_steady"] < 0.005
 
 
 def test_interrupted_movement_resumes_exactly(specimen):
     """A movement stopped after a checkpoint and resumed from it gives bitwise the same
     loads as one run straight through (dem3d restores state and contact history)."""
-    case = dataclasses.replace(SMALL, movement=Movement(mode="T", disp_over_H=0.001))
+    case = dataclasses.replace(SMALL, movement=Movement(mode="T", wall_disp_over_H=0.001))
     straight = [s.K for s, _ in move_wall(case, specimen)]
     saved = {}
     gen = move_wall(case, specimen, checkpoint=lambda st: saved.__setitem__("state", st), checkpoint_every_s=0.0)

@@ -7,13 +7,13 @@ from studies.nadukuru.validate import _keep_other_walls, markdown
 
 
 def _row(K, h):
-    return {"K": K, "resultant_height_over_H": h, "disp_over_H_steady": 0.001, "wall_time_s": 60.0,
+    return {"K": K, "resultant_height_over_H": h, "wall_disp_over_H_steady": 0.001, "wall_time_s": 60.0,
             "paper": {"K": 0.2, "resultant_height_over_H": 0.4}}
 
 
 def _report(git, modes, rate=None):
     entry = {"specimen": {"particles": 10, "bodies": 8, "seed": 1, "dt_s": 1e-5, "porosity": 0.35,
-                          "K_at_rest": 0.39, "centroid_at_rest": 0.33, "at_rest_load_kN_per_0.5m": 16.0},
+                          "K_at_rest": 0.39, "resultant_height_over_H_at_rest": 0.33, "thrust_at_rest_kN_per_0.5m": 16.0},
              "modes": modes}
     if rate is not None:
         entry["rate_check"] = rate

@@ -33,7 +33,7 @@ def test_recording_round_trip(tmp_path, dim):
     with Recorder(path, dim=dim, every=2) as rec:
         rec.log_case("# case\nphi = 30")
         for k, f in enumerate(frames):
-            rec.log_frame(f, wall_disp_over_H=k * 5e-4, metrics={"K": 0.2 + 0.01 * k, "centroid": 0.4},
+            rec.log_frame(f, wall_disp_over_H=k * 5e-4, metrics={"K": 0.2 + 0.01 * k, "resultant_height_over_H": 0.4},
                           profile=(np.linspace(0.1, 0.9, 6), np.full(6, 0.1)))
     paths = readback.entity_paths(path)
     assert {"/" + P.PARTICLES, "/" + P.WALL, "/" + P.FORCE_CHAINS, "/" + P.PROFILE_DEM, "/" + P.METRIC_K,
