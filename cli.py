@@ -362,15 +362,22 @@ def _add_study_command(sub, study, cmd) -> None:
     p.set_defaults(func=lambda args: _cmd_study(cmd, args))
 
 
-def _cmd_study(cmd, args) -> int:
-    from studies.runner import finished_result
-
+def case_from_args(cmd, args):
+    """The case a study command runs: only the flags the user typed count (the others
+    are absent from ``args``), then ``cmd.resolve`` applies the precedence rule."""
     flags = {o.key: (o.to_case(getattr(args, o.dest)) if o.to_case else getattr(args, o.dest))
              for o in cmd.options if o.key is not None and hasattr(args, o.dest)}
     if hasattr(args, "seed"):
         flags[cmd.seed_key] = args.seed
+    return cmd.resolve(config=args.config, flags=flags, sets=args.set, resume=getattr(args, "resume", None),
+                       study=args.study)
+
+
+def _cmd_study(cmd, args) -> int:
+    from studies.runner import finished_result
+
+    case = case_from_args(cmd, args)
     resume = getattr(args, "resume", None)
-    case = cmd.resolve(config=args.config, flags=flags, sets=args.set, resume=resume, study=args.study)
     if resume is not None and finished_result(resume) is not None:
         print(f"{resume} holds a finished run (result.json): nothing to resume", file=sys.stderr)
         return 0

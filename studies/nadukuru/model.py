@@ -115,6 +115,13 @@ class SpecimenRecipe:
         require_number("target_porosity", self.target_porosity, 0.2, 0.7)
         require_number("damping_ratio", self.damping_ratio, 0, 1, lo_open=False)
         require_number("local_damping", self.local_damping, 0, 1, lo_open=False)
+        for name in ("kn", "ks", "density", "d_min", "settle_ratio", "rain_gravity", "deposition_gravity",
+                     "deposition_softening"):
+            require_number(name, getattr(self, name), 0, None)
+        require_number("d_max", self.d_max, self.d_min, None, lo_open=False)
+        require_number("floor_friction", self.floor_friction, 0, None, lo_open=False)
+        if self.dt is not None:
+            require_number("dt", self.dt, 0, None, unit="s")
 
 
 @dataclass(frozen=True)
@@ -163,6 +170,9 @@ class Movement:
         require_number("wall_disp_over_H", self.wall_disp_over_H, 0, 0.1)
         require_number("speed", self.speed, 0, 1.0, unit="m/s")
         require_number("local_damping", self.local_damping, 0, 1, lo_open=False)
+        require_number("ramp", self.ramp, 0, None, lo_open=False, unit="s")
+        if not (isinstance(self.record_every, int) and self.record_every >= 1):
+            raise InvalidParameter("record_every", self.record_every, "a whole number >= 1", "steps per load sample")
 
 
 @dataclass(frozen=True)
@@ -171,6 +181,32 @@ class NadukuruCase:
     wall: WallSetup = field(default_factory=WallSetup)
     movement: Movement = field(default_factory=Movement)
     seed: int = 1
+
+    def __post_init__(self):
+        least = fewest_particles(self.specimen, self.wall)
+        if self.specimen.particles < least:
+            raise InvalidParameter("particles", self.specimen.particles, f">= {least} for this wall",
+                                   f"fewer would need grains over H/{_GRAINS_PER_HEIGHT:g} to fill the box")
+
+
+#: the coarsest grains a reduced specimen may use: d_max x grain scale <= H / this
+_GRAINS_PER_HEIGHT = 10.0
+
+
+def fewest_particles(rec: SpecimenRecipe, wall: WallSetup) -> int:
+    """The smallest particle count whose scaled grains stay at most H / 10 across (the
+    grains grow as the count falls, ``grain_scale``): 878 for the paper's wall."""
+    def too_coarse(n: int) -> bool:
+        scale, _ = grain_scale(dataclasses.replace(rec, particles=n), wall)
+        return scale * rec.d_max > wall.height / _GRAINS_PER_HEIGHT
+
+    lo, hi = 1, max(rec.particles, 2)
+    while too_coarse(hi):
+        lo, hi = hi, hi * 2
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if too_coarse(mid) else (lo, mid)
+    return hi
 
 
 def rough_or_smooth(wall: str) -> float:
@@ -308,13 +344,25 @@ def _loose_fill(rec: SpecimenRecipe, wall: WallSetup, scale: float, rng) -> tupl
     jams near 0.25-0.38. ``scale`` multiplies the recipe's diameters (``grain_scale``)."""
     L, H, w = wall.backfill_length, wall.height, wall.width
     n_bodies = int(round(rec.particles / (1.0 + rec.clump_fraction)))
-    gen_height = (1.0 - rec.target_porosity) * H * _OVERFILL / 0.20
-    lo = np.array([0.0, 0.0, 0.0]) + 1e-3
-    hi = np.array([L, w, gen_height]) - 1e-3
-    spec = dem3d.random_specimen(rng, lo, hi, n_bodies, scale * rec.d_min, scale * rec.d_max,
-                                 clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
-                                 density=rec.density)
-    return spec, gen_height
+    for fraction in _GENERATION_FRACTIONS:
+        gen_height = (1.0 - rec.target_porosity) * H * _OVERFILL / fraction
+        lo = np.array([0.0, 0.0, 0.0]) + 1e-3
+        hi = np.array([L, w, gen_height]) - 1e-3
+        try:
+            spec = dem3d.random_specimen(rng, lo, hi, n_bodies, scale * rec.d_min, scale * rec.d_max,
+                                         clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
+                                         density=rec.density)
+            return spec, gen_height
+        except InvalidParameter:
+            # coarse grains in a narrow box jam before 0.2 (800 and 1,000 particles did):
+            # a taller, looser cloud, drawn on from the same generator
+            continue
+    raise InvalidParameter("particles", rec.particles, "a count whose grains fit the generation box",
+                           f"random placement jammed even at a solid fraction of {_GENERATION_FRACTIONS[-1]}")
+
+
+#: solid fractions of the loose cloud, tried in turn (0.2 first: every earlier specimen)
+_GENERATION_FRACTIONS = (0.20, 0.15, 0.10)
 
 
 class _StageLog:
@@ -547,13 +595,16 @@ class LoadSample:
 
 def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, progress=None,
               resume: dict | None = None, checkpoint=None,
-              checkpoint_every_s: float = 300.0) -> Iterator[tuple[LoadSample, object | None]]:
+              checkpoint_every_s: float = 300.0,
+              checkpoint_every_fraction: float = 0.1) -> Iterator[tuple[LoadSample, object | None]]:
     """Move the wall from the settled specimen to ``wall_disp_over_H``; yields
     (LoadSample averaged over ``record_every`` steps, Frame or None) pairs.
 
-    ``checkpoint(state)`` is called every ``checkpoint_every_s`` of wall-clock time with
-    the engine state plus ``movement.t0`` (the time the movement started); passing that
-    dict back as ``resume`` continues the movement exactly (dem3d resumes bitwise).
+    ``checkpoint(state)`` is called every ``checkpoint_every_s`` of wall-clock time and
+    each time another ``checkpoint_every_fraction`` of the movement is done (a short
+    run interrupted before 300 s would otherwise restart its movement), with the engine
+    state plus ``movement.t0`` (the time the movement started); passing that dict back
+    as ``resume`` continues the movement exactly (dem3d resumes bitwise).
     """
     mv = case.movement
     wall = dataclasses.replace(case.wall, width=specimen.width)
@@ -566,6 +617,8 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
         if progress else None
     since_frame = 0
     last_checkpoint = _time.perf_counter()
+    step_of_marks = max(1, int(checkpoint_every_fraction * n_total))
+    next_mark = (done // step_of_marks + 1) * step_of_marks
     while done < n_total:
         m = min(k, n_total - done)
         hist_f, hist_m = sim.step(m, record_panels=True)
@@ -579,7 +632,9 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
             progress.update(task, advance=m, status=f"Delta/H {sample.wall_disp_over_H:.4f}  K {sample.K:.3f}")
         yield sample, (dem3d.frame(sim) if emit else None)
         # after the consumer has taken this sample, so a checkpoint holds it too
-        if checkpoint is not None and _time.perf_counter() - last_checkpoint > checkpoint_every_s:
+        if checkpoint is not None and (_time.perf_counter() - last_checkpoint > checkpoint_every_s
+                                       or next_mark <= done < n_total):
+            next_mark = (done // step_of_marks + 1) * step_of_marks
             state = sim.to_arrays()
             state["movement.t0"] = np.array(t0)
             checkpoint(state)

@@ -132,3 +132,21 @@ def test_smooth_side_walls_hold_the_fill_and_carry_no_weight(tmp_path):
     assert abs(-fz.sum() / weight - 1.0) < 0.01
     n_wall = case.wall.segments
     assert np.all(np.abs(fz[n_wall + 1:]) < 1e-9 * weight)     # far wall and the two side walls
+
+
+def test_checkpoints_come_with_progress_as_well_as_time(specimen):
+    """With the wall-time trigger out of reach (1 h), a checkpoint still comes each time
+    another tenth of the movement is done: 9 in a run (none at the end, which writes
+    the result instead), at 10 %, 20 %, ... of the steps. Before, a run interrupted in
+    its first 300 s restarted its movement."""
+    case = dataclasses.replace(SMALL, movement=Movement(mode="T", wall_disp_over_H=0.002))
+    marks = []
+    for sample, _ in move_wall(case, specimen, checkpoint=lambda st: marks.append(float(st["time"])),
+                               checkpoint_every_s=3600.0):
+        last = sample
+    t0 = float(specimen.state["time"])
+    fractions = [(t - t0) / (last.time - t0) for t in marks]
+    assert len(marks) == 9
+    # each mark lands on the first sample at or past its tenth (samples are 50 steps apart)
+    for k, f in enumerate(fractions, start=1):
+        assert k / 10 - 1e-9 <= f < k / 10 + 0.05

@@ -1,0 +1,176 @@
+"""What a new user trips over: every bad input ends in one line on stderr and exit 2,
+with no traceback and nothing written; Ctrl-C ends every long command with exit 130
+and one line; settings follow one precedence; a resume keeps its run's settings.
+
+The inputs are the ones a new user tried on a fresh clone, and more of each kind."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import cli
+
+ROOT = Path(__file__).resolve().parents[2]
+
+BAD = [
+    # counts and numbers
+    ["compare", "nadukuru", "--particles", "50"],
+    ["compare", "nadukuru", "--particles", "800"],           # below the 878 a 3.1 m wall needs
+    ["compare", "nadukuru", "--particles", "-3"],
+    ["compare", "nadukuru", "--set", "particles=inf"],
+    ["compare", "nadukuru", "--set", "seed=1e400"],
+    ["compare", "nadukuru", "--set", "density=-2650"],
+    ["compare", "nadukuru", "--set", "particle_friction=nan"],
+    ["compare", "nadukuru", "--set", "movement.record_every=0"],
+    ["compare", "nadukuru", "--set", "d_max=0.01"],           # below d_min
+    ["compare", "nadukuru", "--every", "0"],
+    ["compare", "nadukuru", "--mode", "sideways"],
+    ["compare", "khosravi", "--particles-scale", "1000"],
+    ["compare", "khosravi", "--H", "0.001", "--particles-scale", "3"],
+    ["compare", "khosravi", "--H", "0.5"],
+    ["compare", "khosravi", "--set", "friction=-1"],
+    ["compare", "khosravi", "--set", "dis_over_H_max=nan"],   # an old spelling, still checked
+    ["calibrate", "biaxial", "--friction", "0.3,abc"],
+    ["calibrate", "biaxial", "--friction", "-0.1"],
+    ["calibrate", "biaxial", "--target-phi", "95"],
+    ["calibrate", "triaxial", "--confining", "-5"],
+    ["calibrate", "triaxial", "--particles", "0"],
+    ["theory", "--omega", "-60"],
+    ["theory", "--phi", "95"],
+    ["dsm", "--delta", "-30"],
+    ["dsm", "--theta-r", "abc"],
+    # keys and abbreviations
+    ["compare", "nadukuru", "--set", "no_such_key=1"],
+    ["compare", "nadukuru", "--set", "novalue"],
+    ["compare", "khosravi", "--particles", "3000"],            # not --particles-scale
+    ["validate", "khosravi", "--out-dir", "x"],                # now --docs
+    ["keys", "heap"],
+    # files
+    ["theory", "--plot", "p.txt"],
+    ["theory", "--plot", "missing/dir/p.png"],
+    ["dsm", "--plot", "missing/p.png"],
+    ["compare", "nadukuru", "--rrd", "out.txt"],
+    ["compare", "nadukuru", "--rrd", "missing/r.rrd"],
+    ["calibrate", "biaxial", "--card", "missing/card.json"],
+    ["compare", "nadukuru", "--config", "."],                  # a folder
+    ["compare", "nadukuru", "--config", "binary.toml"],
+    ["compare", "nadukuru", "--config", "missing.toml"],
+    ["compare", "nadukuru", "--config", "bad.toml"],
+    # resume
+    ["compare", "nadukuru", "--resume", ""],
+    ["compare", "nadukuru", "--resume", "."],
+    ["compare", "nadukuru", "--resume", "runs/khosravi/old"],  # another study's run
+    ["compare", "nadukuru", "--resume", "runs/nadukuru/old", "--seed", "3"],
+    ["compare", "nadukuru", "--resume", "runs/nadukuru/old", "--set", "particle_friction=0.3"],
+]
+
+
+@pytest.fixture
+def workdir(tmp_path, monkeypatch):
+    """A folder with the files the bad inputs name, as the current directory."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "binary.toml").write_bytes(bytes(range(256)))
+    (tmp_path / "bad.toml").write_text("seed = = 3\n")
+    for study in ("khosravi", "nadukuru"):
+        old = tmp_path / "runs" / study / "old"
+        old.mkdir(parents=True)
+        (old / "config.toml").write_text("seed = 7\n")
+    return tmp_path
+
+
+def _files(folder: Path) -> set[str]:
+    return {str(p.relative_to(folder)) for p in folder.rglob("*")}
+
+
+@pytest.mark.parametrize("argv", BAD, ids=[" ".join(a) for a in BAD])
+def test_bad_input_is_one_line_and_exit_2(argv, workdir, capsys):
+    before = _files(workdir)
+    with pytest.raises(SystemExit) as stop:
+        raise SystemExit(cli.main(argv))
+    err = capsys.readouterr().err
+    assert stop.value.code == 2
+    assert len(err.strip().splitlines()) == 1 and "error" in err and "Traceback" not in err
+    assert _files(workdir) == before          # nothing written
+
+
+def test_a_finished_run_is_not_rerun(workdir, capsys):
+    """--resume on a folder with a result.json: exit 0, says so, runs nothing."""
+    from studies import get
+    from studies.runfolder import RunFolder
+
+    folder = RunFolder("nadukuru", 4, root=workdir / "runs")
+    folder.write_config(get("nadukuru").case(particles=2000, seed=4))
+    folder.write_json("result.json", {"case": "nadukuru"})
+    before = _files(workdir)
+    assert cli.main(["compare", "nadukuru", "--resume", str(folder.path)]) == 0
+    assert "finished" in capsys.readouterr().err
+    assert _files(workdir) == before
+
+
+def _args(argv):
+    return cli.build_parser().parse_args(argv)
+
+
+def _case(argv):
+    from studies import get
+    args = _args(argv)
+    return cli.case_from_args(get(args.study).command(args.command), args)
+
+
+def test_precedence_defaults_config_flags_set(tmp_path):
+    """defaults < --config < typed flags < --set; a flag not typed leaves the file's value."""
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("seed = 7\n[specimen]\nparticles = 2500\n[movement]\nmode = \"RB\"\n[wall]\nfriction = 0.0\n")
+    only_file = _case(["compare", "nadukuru", "--config", str(cfg)])
+    assert (only_file.seed, only_file.specimen.particles, only_file.movement.mode, only_file.wall.friction) == \
+        (7, 2500, "RB", 0.0)
+    typed = _case(["compare", "nadukuru", "--config", str(cfg), "--seed", "3", "--mode", "T", "--wall", "rough",
+                   "--particles", "2000"])
+    assert (typed.seed, typed.specimen.particles, typed.movement.mode, typed.wall.friction) == (3, 2000, "T", 0.35)
+    last = _case(["compare", "nadukuru", "--config", str(cfg), "--seed", "3", "--set", "seed=5"])
+    assert last.seed == 5 and last.specimen.particles == 2500
+    kcfg = tmp_path / "k.toml"
+    kcfg.write_text("H = 0.2\nseed = 9\n")
+    k = _case(["compare", "khosravi", "--config", str(kcfg), "--H", "0.25"])
+    assert (k.H, k.seed) == (0.25, 9)
+
+
+def test_old_spellings_are_read(tmp_path):
+    """A config or --set key of the old vocabulary maps to today's (glossary)."""
+    case = _case(["compare", "khosravi", "--set", "dis_over_H_max=0.002"])
+    assert case.wall_disp_over_H_max == 0.002
+    case = _case(["compare", "nadukuru", "--set", "movement.disp_over_H=0.004", "--particles", "2000"])
+    assert case.movement.wall_disp_over_H == 0.004
+
+
+LONG = [
+    (["compare", "nadukuru", "--particles", "3000", "--no-rrd"], True),
+    (["compare", "khosravi", "--particles-scale", "3", "--no-cache"], False),
+    (["calibrate", "biaxial", "--particles-scale", "3", "--friction", "0.3"], False),
+    (["calibrate", "triaxial", "--particles", "1000"], False),
+]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("argv,resumable", LONG, ids=[" ".join(a[:2]) for a, _ in LONG])
+def test_ctrl_c_stops_with_one_line_and_exit_130(argv, resumable, tmp_path):
+    """SIGINT a few seconds into each long command: exit 130, no traceback, one line
+    that names the run folder (and the resume command where there is one). Before,
+    calibrate biaxial ran on: the interrupt was swallowed in a pymunk callback."""
+    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), *argv, "--quiet", "--out", str(tmp_path)],
+                            cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(8.0)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "Exception ignored" not in err
+    last = err.strip().splitlines()[-1]
+    assert last.startswith("wallsim: interrupted")
+    assert ("--resume" in last) == resumable
