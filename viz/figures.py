@@ -190,22 +190,41 @@ def plot_series(x, ys: dict, path, *, xlabel: str, ylabel: str, title: str = "",
     return _finish(fig, path)
 
 
+def _backfill_points(sig: np.ndarray, surf: float, group: int, panel_height: float):
+    """(heights [m], sigma [Pa]) of the 4-panel readings wholly below the surface whose
+    cells were all read, else of the single cells that were."""
+    starts = np.arange(0, len(sig) - group + 1, group)
+    starts = starts[(starts + group) * panel_height <= surf + 1e-9]
+    groups = [(s + group / 2, np.mean(sig[s:s + group])) for s in starts if not np.isnan(sig[s:s + group]).any()]
+    if not groups:
+        cells = np.nonzero(~np.isnan(sig) & ((np.arange(len(sig)) + 1) * panel_height <= surf + 1e-9))[0]
+        groups = [(c + 0.5, sig[c]) for c in cells]
+    if not groups:
+        return np.zeros(0), np.zeros(0)
+    mids, values = np.array(groups).T
+    return mids * panel_height, values
+
+
 def plot_khosravi_backfilling(layers, path, *, gamma: float, H: float, group: int = 4,
                               panel_height: float = 0.01, title: str = "") -> Path:
     """Khosravi et al. Fig. 9 style: lateral pressure on the wall after each layer of the
     pluviation, sigma_h/(gamma H) against height above the base / H, 4-panel readings.
-    ``layers``: list of (layer, surface [m], (p,) panel sigma [Pa], panel 0 at the bottom)."""
+    ``layers``: list of (layer, surface [m], (p,) panel sigma [Pa], panel 0 at the bottom).
+    Cells not read (NaN: grains held static below the free strip of a held-layer fill)
+    are left out: a 4-panel reading needs its four cells, else the single read cells
+    are drawn, so the near-surface readings of every layer show."""
     fig, ax = plt.subplots(figsize=(5, 6))
     n = len(layers)
+    unread = False
     for k, (layer, surf, sig) in enumerate(layers):
         sig = np.asarray(sig, float)
-        starts = np.arange(0, len(sig) - group + 1, group)
-        tops = (starts + group) * panel_height
-        keep = tops <= surf + 1e-9
-        means = np.array([sig[s:s + group].mean() for s in starts[keep]])
-        mids = (starts[keep] + group / 2) * panel_height
-        ax.plot(means / (gamma * H), mids / H, "o-", ms=3, color=plt.cm.viridis(k / max(n - 1, 1)),
+        unread |= bool(np.isnan(sig[: int(surf / panel_height)]).any())
+        heights, values = _backfill_points(sig, surf, group, panel_height)
+        ax.plot(values / (gamma * H), heights / H, "o-", ms=3, color=plt.cm.viridis(k / max(n - 1, 1)),
                 label=f"layer {layer} (surface {surf * 1e3:.0f} mm)" if k in (0, n - 1) or k % 3 == 0 else None)
+    if unread:
+        ax.text(0.98, 0.02, "cells below the free strip not read\n(grains held static while layers fall)",
+                transform=ax.transAxes, ha="right", va="bottom", fontsize=7)
     ax.set_xlim(left=0)
     ax.set_ylim(0, 1.05)
     ax.set_xlabel("sigma_h / (gamma H)")
