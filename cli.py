@@ -373,6 +373,14 @@ def case_from_args(cmd, args):
                        study=args.study)
 
 
+def _setting_sources(cmd, args) -> dict[str, str]:
+    from studies.config import setting_sources
+    typed = {o.key: o.flag for o in cmd.options if o.key is not None and hasattr(args, o.dest)}
+    if hasattr(args, "seed"):
+        typed[cmd.seed_key] = "--seed"
+    return setting_sources(args.config, typed, args.set, typed)
+
+
 def _cmd_study(cmd, args) -> int:
     from studies.runner import finished_result
 
@@ -386,6 +394,9 @@ def _cmd_study(cmd, args) -> int:
     opts = cmd.run_options(**{o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None},
                            out=args.out, quiet=args.quiet)
     result, where = cmd.run(case, opts)
+    if resume is None:
+        from studies.runner import annotate_config
+        annotate_config(_setting_sources(cmd, args), result)
     if args.json:
         from studies.runfolder import to_plain
         print(json.dumps(to_plain(result), indent=2, default=str))     # NaN -> null: JSON has no NaN

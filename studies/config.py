@@ -233,3 +233,30 @@ def describe_keys(case, prefix: str = "") -> list[tuple[str, object, str]]:
         else:
             rows.append((prefix + f.name, value, notes.get(f.name, "")))
     return rows
+
+
+def setting_sources(config: str | Path | None, flags: dict | None, sets: list[str] | None,
+                    flag_names: dict | None = None) -> dict[str, str]:
+    """Where each non-default setting came from, in precedence order (a later source
+    overwrites an earlier one): ``{"seed": "--set", "specimen.particles": "flag --particles"}``."""
+    out = {}
+    if config:
+        data = tomllib.loads(Path(config).read_text())
+
+        def walk(d, prefix=""):
+            for k, v in d.items():
+                yield from walk(v, prefix + k + ".") if isinstance(v, dict) else [prefix + k]
+        out |= {current_name(k): f"--config {config}" for k in walk(data)}
+    out |= {k: f"flag {(flag_names or {}).get(k, '')}".rstrip() for k in (flags or {})}
+    out |= {current_name(item.split("=", 1)[0].strip()): "--set" for item in sets or [] if "=" in item}
+    return out
+
+
+def sources_comment(sources: dict[str, str], used: list[str]) -> str:
+    """TOML comment lines for config.toml: where the settings came from and what the run
+    actually used where it differs from the request (comments: --config ignores them)."""
+    lines = ["", "# where the settings came from (the others are the case's defaults):"]
+    lines += [f"#   {k}: {v}" for k, v in sorted(sources.items())] or ["#   all defaults"]
+    if used:
+        lines += ["# what the run used:"] + [f"#   {u}" for u in used]
+    return "\n".join(lines) + "\n"

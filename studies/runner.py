@@ -84,3 +84,30 @@ def interrupted_line(resume_command: str | None) -> str:
     if resume_command:
         return f"interrupted at {stamp}; resume with: {resume_command} --resume {current_folder}"
     return f"interrupted at {stamp}; what finished is in {current_folder} (this command does not resume)"
+
+
+def used_settings(result: dict) -> list[str]:
+    """What a run used that its config does not say: the particle count reached and the
+    grains and box it was scaled to (from the result's provenance)."""
+    prov = result.get("provenance", {})
+    used = []
+    if "particles" in result:
+        used.append(f"particles reached: {result['particles']}")
+    for key, text in (("grain_scale", "grain diameters x {:.4g} (the case's d_min, d_max)"),
+                      ("width_m", "periodic width {:.4g} m"), ("dt_s", "time step {:.4g} s")):
+        if key in prov:
+            used.append(text.format(prov[key]))
+    if "dt_s" in result and "dt_s" not in prov:
+        used.append(f"time step {result['dt_s']:.4g} s")
+    return used
+
+
+def annotate_config(sources: dict[str, str], result: dict) -> None:
+    """Append to the run's config.toml where each setting came from and what was used."""
+    from .config import sources_comment
+    if current_folder is None or not (current_folder / "config.toml").is_file():
+        return
+    path = current_folder / "config.toml"
+    text = path.read_text().split("\n# where the settings came from")[0].rstrip("\n") + "\n"
+    from .store import atomic_write
+    atomic_write(path, (text + sources_comment(sources, used_settings(result))).encode())

@@ -30,7 +30,23 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from .compare import compare_khosravi
     result, rf = compare_khosravi(case, root=opts.out, rrd=opts.rrd, quiet=opts.quiet,
                                   specimen_cache=not opts.no_cache)
-    return result, f"run folder: {rf.path}"
+    note = scale_note(case, result)
+    if note:
+        result["scale_note"] = note
+    return result, (f"{note}\n" if note else "") + f"run folder: {rf.path}"
+
+
+def scale_note(case, result: dict) -> str | None:
+    """One line for a run with coarser grains than the paper's: what it read against
+    what the full-size validation read (coarse grains read a higher at-rest K)."""
+    if case.particles_scale == 1.0:
+        return None
+    full = STUDY.reference()["wallsim_full_size"]
+    d = result["dem"]
+    return (f"reduced size: grains {case.particles_scale:g} x the paper's ({result['particles']} disks); here K0 "
+            f"{d['K_at_rest_upper_half_over_jaky']:.2f} x Jaky and active thrust {d['active_thrust_over_rankine']:.2f}"
+            f" x Rankine, at full size ({full['particles']} disks) {full['K_at_rest_upper_half_over_jaky']:.2f} and "
+            f"{full['active_thrust_over_rankine']:.2f} ({full['source']})")
 
 
 def _compare_text(res: dict):

@@ -42,7 +42,26 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
         result, folder = compare_nadukuru(case, wall_kind(case), root=Path(opts.out), rrd=opts.rrd,
                                           spawn=opts.spawn, every=opts.every, record=not opts.no_rrd,
                                           progress=bar, resume=Path(opts.resume) if opts.resume else None)
-    return result, f"run folder: {folder}"
+    note = scale_note(case, result)
+    if note:
+        result["scale_note"] = note
+    return result, (f"{note}\n" if note else "") + f"run folder: {folder}"
+
+
+def scale_note(case, result: dict) -> str | None:
+    """One line for a run with fewer particles than the paper's: what it gave against
+    what wallsim gave at paper scale for the same mode and wall."""
+    ref = STUDY.reference()
+    if case.specimen.particles >= ref["specimen"]["particles"]:
+        return None
+    wall = wall_kind(case)
+    full = ref["wallsim_paper_scale"][wall]
+    mode = case.movement.mode
+    d = result["dem"]
+    return (f"reduced size: {result['particles']} spheres (paper ~{ref['specimen']['particles']:,}); here K "
+            f"{d['K']:.3f}, h/H {d['resultant_height_over_H']:.3f}; at paper scale ({full['particles']} spheres) "
+            f"{mode} {wall}: K {full[mode]['K']:.3f}, h/H {full[mode]['resultant_height_over_H']:.3f} "
+            f"({ref['wallsim_paper_scale']['source']})")
 
 
 def _compare_text(result: dict):

@@ -35,6 +35,15 @@ def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, 
               "panels_vs_displacement.csv",
               "fig10_at_rest.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png"):
         assert f in names
+    # config.toml says where each setting came from and what the run used (as TOML
+    # comments, so --config <run>/config.toml still repeats the run)
+    config = (runs[0] / "config.toml").read_text()
+    for line in ("H: flag --H", "particles_scale: flag --particles-scale", "wall_disp_over_H_max: --set",
+                 f"particles reached: {res['particles']}"):
+        assert line in config
+    # coarse grains: one line says so and sets the run beside the full-size validation
+    assert res["scale_note"].startswith("reduced size: grains 5 x the paper's")
+    assert "at full size (61120 disks) 0.99 and 0.77" in res["scale_note"]
     man = json.loads((runs[0] / "manifest.json").read_text())
     for key in ("seed", "versions", "n_grains", "dt", "iterations", "friction", "wall_time_s"):
         assert key in man
