@@ -56,3 +56,21 @@ def resultant_height_over_H(sigma: np.ndarray, depth: np.ndarray, panel_height: 
     below = depth > 0
     F = np.sum(sigma[below])
     return float(np.sum(sigma[below] * (H - depth[below])) / max(F, 1e-12)) / H
+
+
+def dem_profile(depth: np.ndarray, sigma: np.ndarray, tau: np.ndarray, panel_height: float, H: float,
+                gamma: float, height: float | None = None, source: str = "DEM panel readings"):
+    """The DEM wall load as the record every theory returns (``analytic.Profile``), so
+    one comparison path serves both: sigma_h and tau at the panel centres below the
+    surface [Pa], thrust = the normal force sum sigma_i L [N/m] (vertical wall: thrust_h
+    the same), K = Kh = 2 thrust / (gamma H^2), and the resultant's height [m] (given,
+    e.g. from panel moments in 3D, or from the panel centres)."""
+    from analytic.profile import Profile
+
+    below = depth > 0
+    order = np.argsort(depth[below])
+    F = normal_thrust(sigma, depth, panel_height)
+    h = resultant_height_over_H(sigma, depth, panel_height, H) * H if height is None else height
+    K = 2.0 * F / (gamma * H**2)
+    return Profile("dem", depth[below][order], sigma[below][order], tau[below][order], F, F, h, K, K, H,
+                   source=source, status="measured")

@@ -27,7 +27,7 @@ from analytic.arching import handy, khosravi, paik_salgado
 from analytic.classical import jaky_coefficient, rankine_coefficient
 from dem2d.biaxial import BiaxialCase
 from studies.khosravi.run import KhosraviRun
-from studies.measures import k_upper_half, normal_thrust, resultant_height_over_H, steady_displacement
+from studies.measures import dem_profile, k_upper_half, normal_thrust, resultant_height_over_H, steady_displacement
 from studies.khosravi.case import KhosraviCase
 from dem2d.sim import restore
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
@@ -238,7 +238,14 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
         "readings": {"depth_over_H": (d / H).tolist(), "at_rest_over_gammaH": (m_rest / (g * H)).tolist(),
                      "active_over_gammaH": (m_act / (g * H)).tolist()},
         "theory_thrust_over_dem_active": {k: p.normal_force() / F_act for k, p in th.items() if k != "jaky"},
+        "profile": {"at_rest": _profile(run, rest).as_dict(), "active": _profile(run, act).as_dict()},
     }
+
+
+def _profile(run: KhosraviRun, reading):
+    """A wall reading as the record the theories return (studies.measures.dem_profile)."""
+    return dem_profile(run.panel_depths(), reading.sigma, reading.tau, run.case.panel_height, run.backfill.H,
+                       run.backfill.gamma, source=f"dem2d, {run.backfill.n_grains} disks, 10 mm cells")
 
 
 def _wall_figures(run: KhosraviRun, rest, act, phi: float) -> dict:

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..measures import dem_profile
 from ..runner import Stopwatch, finish, open_recording, open_run_folder
 from .model import G, MODE_TITLES, NadukuruCase, load_or_prepare, paper_values, run_modes, theory_rows
 
@@ -171,6 +172,7 @@ def _result(case: NadukuruCase, wall_kind: str, spec, cached: bool, hist: dict, 
                 "porosity": spec.porosity, "thrust_at_rest_kN_per_0.5m": spec.thrust_at_rest_kN * 0.5 / spec.width,
                 "wall_disp_over_H_steady": hist["wall_disp_over_H_steady"],
                 "segment_stress_over_rho_g_1mn_H": (hist["segment_stress_active"] / cmp.norm).tolist()},
+        "profile": {"active": _active_profile(case, spec, hist, cmp).as_dict()},
         "paper": cmp.paper, "theory": cmp.theories, "phi_deg": cmp.phi, "phi_source": cmp.phi_source,
         "provenance": {"particles": spec.n_spheres, "seed": case.seed, "dt_s": spec.dt,
                        "grain_scale": spec.grain_scale, "width_m": spec.width,
@@ -179,6 +181,16 @@ def _result(case: NadukuruCase, wall_kind: str, spec, cached: bool, hist: dict, 
                        "specimen_steps": spec.steps, "movement_steps": int(hist["step"][-1] - hist["step"][0])},
         "run_folder": str(folder.path),
     }
+
+
+def _active_profile(case: NadukuruCase, spec, hist: dict, cmp: Comparison):
+    """The active segment stresses as the record the theories return, the resultant at
+    the height from the panel forces and moments (studies.measures.dem_profile)."""
+    n = case.wall.segments
+    sigma = hist["segment_stress_active"]
+    return dem_profile(cmp.H * (1.0 - cmp.centres), sigma, np.zeros(n), cmp.H / n, cmp.H, cmp.gamma,
+                       height=hist["resultant_height_over_H_active"] * cmp.H,
+                       source=f"dem3d, {spec.n_spheres} spheres, {n} segments")
 
 
 def _case_markdown(case: NadukuruCase, wall_kind: str, spec, phi: float, phi_src: str) -> str:

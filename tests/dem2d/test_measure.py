@@ -72,3 +72,18 @@ def test_resultant_height_of_a_linear_profile():
     sigma = np.concatenate([depth, [5.0, 5.0]])
     got = resultant_height_over_H(sigma, np.concatenate([depth, above]), L, H)
     assert got == pytest.approx(1.0 / 3.0 + 1.0 / (6 * N**2), rel=1e-12)
+
+
+def test_dem_profile_is_the_theory_record():
+    """A Rankine-like linear profile sigma = Ka gamma z on fine panels gives back Ka as
+    K = Kh = 2 F / (gamma H^2) (midpoint rule: exact for a linear profile), the
+    resultant at 1/3 + 1/(6 N^2) of H, and the analytic Profile's own normal force."""
+    from studies.measures import dem_profile
+
+    N, H, gamma, Ka = 40, 0.4, 15e3, 0.3
+    L = H / N
+    depth = (np.arange(N) + 0.5) * L
+    p = dem_profile(depth, Ka * gamma * depth, np.zeros(N), L, H, gamma)
+    assert p.K == pytest.approx(Ka, rel=1e-12) and p.Kh == p.K
+    assert p.height_over_H == pytest.approx(1 / 3 + 1 / (6 * N**2), rel=1e-12)
+    assert p.as_dict()["name"] == "dem" and p.status == "measured"
