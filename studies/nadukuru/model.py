@@ -118,7 +118,8 @@ class SpecimenRecipe:
         for name in ("kn", "ks", "density", "d_min", "settle_ratio", "rain_gravity", "deposition_gravity",
                      "deposition_softening"):
             require_number(name, getattr(self, name), 0, None)
-        require_number("d_max", self.d_max, self.d_min, None, lo_open=False)
+        if not self.d_min <= self.d_max:
+            raise InvalidParameter("d_min, d_max", f"{self.d_min:g}, {self.d_max:g}", "d_min <= d_max [m]")
         require_number("floor_friction", self.floor_friction, 0, None, lo_open=False)
         if self.dt is not None:
             require_number("dt", self.dt, 0, None, unit="s")
@@ -183,6 +184,12 @@ class NadukuruCase:
     seed: int = 1
 
     def __post_init__(self):
+        rec = self.specimen
+        if rec.dt is not None:
+            safe = _dt(dataclasses.replace(rec, dt=None), grain_scale(rec, self.wall)[0])
+            if rec.dt > safe * (1 + 1e-9):
+                raise InvalidParameter("dt", rec.dt, f"(0, {safe:.4g}] s", "0.2 x the critical step of the "
+                                       "lightest grain at these particles; the default takes it")
         least = fewest_particles(self.specimen, self.wall)
         if self.specimen.particles < least:
             raise InvalidParameter("particles", self.specimen.particles, f">= {least} for this wall",

@@ -29,6 +29,8 @@ BAD = [
     ["compare", "nadukuru", "--set", "particle_friction=nan"],
     ["compare", "nadukuru", "--set", "movement.record_every=0"],
     ["compare", "nadukuru", "--set", "d_max=0.01"],           # below d_min
+    ["compare", "nadukuru", "--set", "d_min=0.2"],            # above d_max (named both)
+    ["compare", "nadukuru", "--set", "dt=1"],                 # over the safe step (named as typed)
     ["compare", "nadukuru", "--every", "0"],
     ["compare", "nadukuru", "--mode", "sideways"],
     ["compare", "khosravi", "--particles-scale", "1000"],
@@ -95,6 +97,10 @@ def test_bad_input_is_one_line_and_exit_2(argv, workdir, capsys):
         raise SystemExit(cli.main(argv))
     err = capsys.readouterr().err
     assert stop.value.code == 2
+    if "--set" in argv and "--resume" not in argv:      # the message names what the user typed
+        from studies.config import current_name
+        typed = argv[argv.index("--set") + 1].split("=")[0].split(".")[-1]
+        assert typed in err or current_name(typed) in err or "key" in err
     assert len(err.strip().splitlines()) == 1 and "error" in err and "Traceback" not in err
     assert _files(workdir) == before          # nothing written
 
