@@ -33,12 +33,13 @@ run), prep (generation, settling), measure (porosity, stresses, energies, chains
 from .engine import Periodic, Simulation
 from .errors import BlowUp
 from .params import (ABSOLUTE, DT_SAFETY, HERTZ_MINDLIN, LINEAR, RATIO, ContactParams, check_time_step,
-                     critical_time_step, hertz_mindlin, linear, restitution_to_damping_ratio,
-                     with_local_damping)
+                     critical_time_step, hertz_mindlin, linear, material_table, mix, pair_params,
+                     restitution_to_damping_ratio, with_local_damping)
 from .prep import SettleResult, random_specimen, settle
 from .run import Frame, contacts, frame, run
-from .state import Specimen
-from .walls import FIXED, Motion, Panel, Ramp, Wall, box, plane, rectangle, rotation, segmented_wall, translation
+from .state import Bonds, Specimen
+from .walls import (FIXED, AccelerationTable, Motion, Panel, Ramp, Wall, box, history, plane, rectangle, rotation,
+                    segmented_wall, shaking, sine_envelope, sine_ramp, translation)
 
 __all__ = [
     "Simulation", "Periodic", "BlowUp", "Specimen", "Frame", "frame", "run", "contacts",
@@ -46,4 +47,6 @@ __all__ = [
     "critical_time_step", "check_time_step", "DT_SAFETY", "LINEAR", "HERTZ_MINDLIN", "RATIO", "ABSOLUTE",
     "Wall", "Panel", "Motion", "FIXED", "Ramp", "plane", "rectangle", "box", "segmented_wall",
     "translation", "rotation", "random_specimen", "settle", "SettleResult",
+    "mix", "material_table", "pair_params", "Bonds", "AccelerationTable", "history", "shaking", "sine_envelope",
+    "sine_ramp",
 ]
