@@ -26,7 +26,9 @@ exact for schedules linear in time. A translation may instead be given by its
 displacement history D(t) (``history``, ``shaking``): the pivot then advances by
 D(t + dt) - D(t) over each step, so the wall sits at P + D(t) at every step to round-off
 (any V(t), e.g. a sinusoid, is reproduced exactly, not to the midpoint rule's O(dt^2)),
-and the velocity the contacts see at the step's end is V(t + dt).
+and the velocity the contacts see is the step's mean velocity (D(t + dt) - D(t)) / dt,
+consistent with the spheres' half-step (leapfrog) velocities: with V(t + dt) instead,
+a shaken base would load its contacts' tangential springs by a spurious V dt / 2.
 """
 
 from __future__ import annotations
@@ -218,8 +220,9 @@ def rotation(pivot: Vector, axis: Vector, angular_speed: float | Callable[[float
 
 
 def history(displacement: Callable[[float], Vector], velocity: Callable[[float], Vector]) -> Motion:
-    """Translation following a displacement history D(t) [m] exactly, with its
-    velocity V(t) = D'(t) [m/s] (for the contacts); e.g. base shaking."""
+    """Translation following a displacement history D(t) [m] exactly; ``velocity`` is
+    V(t) = D'(t) [m/s] (kept for callers; the contacts see the step's mean velocity, see
+    the module docstring); e.g. base shaking."""
     return Motion(velocity=velocity, displacement=displacement)
 
 
@@ -432,7 +435,10 @@ class WallSet:
                     v_mid[s, k] = (np.asarray(m.displacement(t), float)
                                    - np.asarray(m.displacement(t_prev), float)) / dt
                 om_end[s, k] = m.angular_speed(t)
-                v_end[s, k] = m.velocity(t)
+                # a history wall shows the contacts its mean velocity over the step just
+                # taken, the same half-step velocity the spheres' leapfrog carries, so a
+                # contact's tangential increment is exactly the wall's displacement
+                v_end[s, k] = m.velocity(t) if m.displacement is None else v_mid[s, k]
         return om_mid, v_mid, om_end, v_end
 
     @property
