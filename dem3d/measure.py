@@ -8,6 +8,7 @@ panel is -F . n / A.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -212,3 +213,106 @@ def force_chains(frame, threshold="mean") -> tuple[np.ndarray, np.ndarray, np.nd
     limit = float(np.mean(f)) if isinstance(threshold, str) and threshold == "mean" else float(threshold)
     keep = f > limit
     return frame.contact_a[keep], frame.contact_b[keep], f[keep]
+
+
+# --------------------------------------------------------------------------------------
+# slice averages (free-field columns), bonded-structure forces, strain, settlement
+# --------------------------------------------------------------------------------------
+
+def contact_branches(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every force acting at a contact point on a sphere, from the last evaluation:
+    (sphere (m,) engine index, branch (m, 3) from the sphere's centre to the contact
+    point [m], force on the sphere (m, 3) [N]); sphere pairs give two rows (one per
+    sphere), panel contacts and intact parallel bonds likewise (bonds at their contact
+    point, with their force; their moments are not contact forces and are left out)."""
+    rows_s, rows_b, rows_f = [], [], []
+    sph = sim.spheres
+    prs = sim.pairs
+    total = int(prs.start[-1])
+    k = np.nonzero(prs.active[:total])[0]
+    if len(k):
+        i = np.searchsorted(prs.start, k, side="right") - 1
+        j = prs.nbr[k]
+        d = _min_image(sim, sph.x[j] - sph.x[i])
+        dist = np.sqrt((d * d).sum(axis=1))
+        n = d / dist[:, None]
+        h = 0.5 * (sph.r[i] + sph.r[j] - dist)
+        f_j = prs.pf[prs.tpos[k], 0:3]
+        rows_s += [i, j]
+        rows_b += [(sph.r[i] - h)[:, None] * n, -(sph.r[j] - h)[:, None] * n]
+        rows_f += [-f_j, f_j]
+    wps = sim.wall_pairs
+    wk = np.nonzero(wps.active[:int(wps.start[-1])])[0]
+    if len(wk):
+        i = np.searchsorted(wps.start, wk, side="right") - 1
+        rows_s.append(i)
+        rows_b.append(wps.out[wk, 3:6] - sph.x[i])
+        rows_f.append(wps.out[wk, 0:3].copy())
+    bnd = sim.bonds
+    if bnd is not None and np.any(bnd.state == 1):
+        b = np.nonzero(bnd.state == 1)[0]
+        i, j = bnd.i[b], bnd.j[b]
+        d = _min_image(sim, sph.x[j] - sph.x[i])
+        dist = np.sqrt((d * d).sum(axis=1))
+        n = d / dist[:, None]
+        h = 0.5 * (sph.r[i] + sph.r[j] - dist)
+        rows_s += [i, j]
+        rows_b += [(sph.r[i] - h)[:, None] * n, -(sph.r[j] - h)[:, None] * n]
+        rows_f += [bnd.out[b, 0:3].copy(), bnd.out[b, 6:9].copy()]
+    if not rows_s:
+        return np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, 3))
+    return np.concatenate(rows_s), np.concatenate(rows_b), np.concatenate(rows_f)
+
+
+def _min_image(sim: Simulation, d: np.ndarray) -> np.ndarray:
+    if sim.periodic is not None:
+        ax, length = sim.periodic.axis, sim.periodic.length
+        d = d.copy()
+        d[:, ax] -= length * np.round(d[:, ax] / length)
+    return d
+
+
+class SliceAverages(NamedTuple):
+    """Averages over slices between ``edges`` along one axis.
+
+    centre:   (ns,) slice mid-coordinates [m]
+    velocity: (ns, 3) mass-weighted mean sphere velocity [m/s] (leapfrog half step)
+    stress:   (ns, 3, 3) Love-Weber mean stress, tension positive [Pa]
+    mass:     (ns,) sphere mass in the slice [kg] (by centre)
+    """
+
+    centre: np.ndarray
+    velocity: np.ndarray
+    stress: np.ndarray
+    mass: np.ndarray
+
+
+def slice_averages(sim: Simulation, edges, area: float, axis: int = 2) -> SliceAverages:
+    """Mean velocity and stress of the spheres whose centres lie in each slice
+    [edges[k], edges[k+1]) along ``axis``, the slice volume being ``area`` [m^2] x its
+    thickness. Stress (Love 1927; Weber 1966; Christoffersen et al. 1981), static part:
+        sigma_ab = (1 / V) sum_{p in V} sum_{c of p} l_a f_b,
+    l the branch from p's centre to the contact point, f the force on p there (contacts,
+    panels, bonds), tension positive; in equilibrium a column's sigma_zz at depth is minus
+    the weight above per area. Symmetrised (the moments of bonds are not included)."""
+    edges = np.asarray(edges, float)
+    sph = sim.spheres
+    ns = len(edges) - 1
+    s = np.searchsorted(edges, sph.x[:, axis], side="right") - 1
+    inside = (s >= 0) & (s < ns)
+    m = 1.0 / np.where(sph.inv_m > 0, sph.inv_m, np.inf)
+    m = np.where(sph.inv_m > 0, m, sim.sphere_masses())          # locked spheres: their own ball
+    mass = np.bincount(s[inside], weights=m[inside], minlength=ns)
+    vel = np.stack([np.bincount(s[inside], weights=(m * sph.v[:, d])[inside], minlength=ns) for d in range(3)],
+                   axis=1) / np.where(mass > 0, mass, 1.0)[:, None]
+    who, branch, force = contact_branches(sim)
+    stress = np.zeros((ns, 3, 3))
+    if len(who):
+        ss = s[who]
+        ok = (ss >= 0) & (ss < ns)
+        outer = branch[ok, :, None] * force[ok, None, :]
+        np.add.at(stress, ss[ok], outer)
+    volume = float(area) * np.diff(edges)
+    stress /= volume[:, None, None]
+    stress = 0.5 * (stress + np.transpose(stress, (0, 2, 1)))
+    return SliceAverages(0.5 * (edges[1:] + edges[:-1]), vel, stress, mass)
