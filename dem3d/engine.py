@@ -118,6 +118,7 @@ class Simulation:
         self.bonds: Bonds | None = None
         self.dt_critical_bonds = math.inf
         self.use_f_ext = False
+        self.attached: tuple[np.ndarray, np.ndarray] | None = None
         bodies = _body_ranges(labels)
         if periodic is not None:
             _check_periodic(periodic, float(radii.max()), self.skin)
@@ -328,6 +329,26 @@ class Simulation:
         self._need_rebuild = True          # bonded pairs leave the contact list
         return nb
 
+    def attach_to_wall(self, spheres, wall: str) -> None:
+        """Carry free spheres (specimen indices) rigidly with a wall's translation (e.g. a
+        layer of grains glued to a shaken base to make it rough): they are locked
+        (translation and rotation) and move by the wall's pivot displacement each step
+        with its half-step velocity (``kernels.move_attached``); wall rotation is not
+        applied to them."""
+        if wall not in self.walls.names:
+            raise InvalidParameter("wall", wall, ", ".join(self.walls.names))
+        idx = np.asarray(spheres, np.int64).reshape(-1)
+        engine = np.empty(self.n_spheres, np.int64)
+        engine[self.original_index] = np.arange(self.n_spheres)
+        rows = engine[idx]
+        if np.any(self.spheres.clump[rows] >= 0):
+            raise InvalidParameter("spheres", "clump members", "free spheres")
+        self.lock(rows, translation=True, rotation=True)
+        k = self.walls.names.index(wall)
+        old_s, old_w = self.attached if self.attached is not None else (np.zeros(0, np.int64),) * 2
+        self.attached = (np.concatenate([old_s, rows]).astype(np.int64),
+                         np.concatenate([old_w, np.full(len(rows), k, np.int64)]))
+
     def bond_pairs(self) -> tuple[np.ndarray, np.ndarray]:
         """(i, j) specimen indices of every bond (broken ones included; see bonds.state)."""
         if self.bonds is None:
@@ -379,7 +400,7 @@ class Simulation:
                 self.walls.wall_of_panel, moving, self.walls.pivot, self.walls.axis, ref[0], ref[1], ref[2],
                 om_mid, v_mid, om_end, v_end, self.panel_force, self.panel_moment,
                 hist_f[done:] if rows else hist_f, hist_m[done:] if rows else hist_m, todo, self.time,
-                self.mtab, self.use_f_ext, self.bonds)
+                self.mtab, self.use_f_ext, self.bonds, self.attached)
             done += ran
             self.time = time
             self.step_count += ran
@@ -508,6 +529,10 @@ class Simulation:
             old_to_new[new_to_old] = np.arange(n)
             bnd = self.bonds._replace(i=old_to_new[self.bonds.i], j=old_to_new[self.bonds.j])
             self.bonds = _index_bonds(bnd, n)
+        if self.attached is not None:
+            old_to_new = np.empty(n, np.int64)
+            old_to_new[new_to_old] = np.arange(n)
+            self.attached = (old_to_new[self.attached[0]], self.attached[1])
         self._rebuild(new_to_old=new_to_old)
         return new_to_old
 
@@ -595,6 +620,8 @@ class Simulation:
                 out[f"bonds.{name}"] = np.array(arr, copy=True)
             out["dt_critical_bonds"] = np.array(self.dt_critical_bonds)
         out["use_f_ext"] = np.array(self.use_f_ext)
+        if self.attached is not None:
+            out["attached.spheres"], out["attached.walls"] = (a.copy() for a in self.attached)
         out["walls.pivot"] = self.walls.pivot.copy()
         out["walls.ref_centre"], out["walls.ref_e1"], out["walls.ref_e2"] = (a.copy() for a in self.walls._ref)
         out["panel_force"] = self.panel_force.copy()
@@ -634,6 +661,8 @@ class Simulation:
                       if "bonds.i" in a else None)
         self.dt_critical_bonds = float(a["dt_critical_bonds"]) if "dt_critical_bonds" in a else math.inf
         self.use_f_ext = bool(a["use_f_ext"]) if "use_f_ext" in a else False
+        self.attached = ((a["attached.spheres"].astype(np.int64), a["attached.walls"].astype(np.int64))
+                         if "attached.spheres" in a else None)
         self.clumps = Clumps(**{f: np.ascontiguousarray(a[f"clumps.{f}"]) for f in Clumps._fields})
         n = self.spheres.x.shape[0]
         self._pair_bufs = [Pairs(**{f: np.ascontiguousarray(a[f"pairs.{f}"]) for f in Pairs._fields}),

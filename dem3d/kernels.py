@@ -8,6 +8,9 @@ geometry helpers and the loops that call them together makes a stale cache impos
 Layout of one time step (no shared accumulator in any parallel loop, so every result is
 bitwise independent of the thread count and of the scheduler):
 
+0. ``bond_forces``     (only with parallel bonds) prange over bonds: each bond updates its
+                       own force and moment and writes the loads on its two spheres in
+                       its own row; pass 2 gathers them per sphere in bond order.
 1. ``pair_forces``     prange over spheres i: each pair listed under i (half list: every
                        pair once) evaluates the contact law once, updates its own
                        tangential history, sums the force on i, and stores the force on
@@ -20,6 +23,12 @@ bitwise independent of the thread count and of the scheduler):
                        the rigid body (quaternion), places the members.
 4. ``panel_loads``     serial: sums the wall-pair forces per panel (force on the panel and
                        moment about the panel centre).
+
+Optional features are passed as ``None`` when off (material table, bonds, spheres
+attached to walls): numba compiles a separate specialisation for a None argument and
+prunes the ``is None`` branches, so a run without them executes the single-material code
+unchanged (tests/dem3d/test_pinning.py checks it bit for bit). External forces are a
+run-time flag (one predictable branch per sphere).
 
 The leapfrog (central difference, as PFC) uses v(t - dt/2) in the velocity-dependent
 forces at time t, then v(t + dt/2) = v(t - dt/2) + dt a(t), x(t + dt) = x(t) + dt v(t + dt/2).
@@ -1309,6 +1318,30 @@ def move_walls(pan, wall_of_panel, moving, pivot, axis, om_mid, v_mid, om_end, v
 
 
 @njit(cache=True, fastmath=FASTMATH)
+def move_attached(sph, att_sphere, att_wall, v_mid, dt, ref_limit2):
+    """Spheres attached to a wall (immovable spheres carried by it, e.g. the rough layer
+    of a shaken base) translate with the wall's pivot over the step: x += V(t + dt/2) dt,
+    and carry v = V(t + dt/2) (the half-step velocity the contacts read, as a sphere's
+    leapfrog velocity). Wall rotation is not applied to them. Returns how many moved
+    farther than sqrt(ref_limit2) since the last list build."""
+    x = sph.x
+    v = sph.v
+    moved = 0
+    for k in range(att_sphere.shape[0]):
+        i = att_sphere[k]
+        w = att_wall[k]
+        dd = 0.0
+        for d in range(3):
+            v[i, d] = v_mid[w, d]
+            x[i, d] += v_mid[w, d] * dt
+            e = x[i, d] - sph.x_ref[i, d]
+            dd += e * e
+        if dd > ref_limit2:
+            moved += 1
+    return moved
+
+
+@njit(cache=True, fastmath=FASTMATH)
 def wall_displacement(pan, ref_centre, ref_e1, ref_e2):
     """Bound on the displacement of any panel point since the reference pose [m]
     (|dq| <= |dc| + a |de1| + b |de2|)."""
@@ -1335,7 +1368,7 @@ def wall_displacement(pan, ref_centre, ref_e1, ref_e2):
 def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed_limit2,
             wall_of_panel, moving, pivot, axis, ref_centre, ref_e1, ref_e2,
             om_mid, v_mid, om_end, v_end, panel_force, panel_moment, hist_force, hist_moment,
-            n_steps, time, mtab, has_fext, bnd):
+            n_steps, time, mtab, has_fext, bnd, att):
     """Run up to ``n_steps`` steps (module docstring, passes 1-4, then the walls move).
 
     om_mid, v_mid, om_end, v_end: (n_steps, n_walls[, 3]) wall motion samples at each
@@ -1343,6 +1376,8 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     hist_force, hist_moment: (n_steps, p, 3) per-step panel loads, or 0 rows to skip.
     mtab, has_fext, bnd: material table or None, external forces on/off, Bonds or None
     (pair_forces, gather_and_move, bond_forces); bonds are evaluated first in each step.
+    att: None or (spheres, walls) int64 arrays of spheres carried by moving walls
+    (``move_attached``, after the spheres move, before the walls do).
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
     that moved a sphere or a panel more than skin/2 since the last list build, or broke a
     bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
@@ -1368,6 +1403,9 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
             moved += m2
             bad += b2
             fast += f2
+        if att is not None:
+            if any_moving:
+                moved += move_attached(sph, att[0], att[1], v_mid[s], dt, ref_limit2)
         if n_pan > 0:
             panel_loads(wps, pan, panel_force, panel_moment)
             if record:

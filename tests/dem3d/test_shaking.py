@@ -130,3 +130,20 @@ def test_block_on_a_shaken_rough_base_slides_above_mu_g(ratio, slides):
         assert slip > 20 * elastic
     else:
         assert slip < 1.02 * ratio * elastic     # only the tangential spring m a / ks
+
+
+def test_spheres_attached_to_a_shaken_base_follow_it_exactly():
+    """Grains glued to the base (attach_to_wall) sit at x0 + D(t) after every step and
+    carry the step's mean velocity; a free sphere resting on them is carried along
+    below the slip threshold (a rough base)."""
+    tab = sine_ramp(2.0, 8.0, 0.1, 0.2, 0.1)
+    spec = single_specimen([[0.0, 0.0, R], [2 * R, 0.0, R], [R, 0.0, R + math.sqrt(3) * R + 1e-5]], R, RHO)
+    sim = Simulation(spec, linear(1e5, 4e4, 0.8, zeta_n=0.5, zeta_s=0.5), dt=5e-5,
+                     walls=[Wall("base", plane((0, 0, 0), (0, 0, 1), mu=0.0), shaking(tab))], sort_by_cell=False)
+    sim.attach_to_wall([0, 1], "base")
+    x0 = sim.spheres.x[:2].copy()
+    for _ in range(80):
+        sim.step(100)
+        d = np.array(tab.displacement(sim.time))
+        np.testing.assert_allclose(sim.spheres.x[:2], x0 + d, rtol=0, atol=1e-15)
+    assert abs(sim.spheres.x[2, 0] - R - tab.displacement(sim.time)[0]) < 1e-5
