@@ -400,7 +400,8 @@ class Simulation:
                 self.walls.wall_of_panel, moving, self.walls.pivot, self.walls.axis, ref[0], ref[1], ref[2],
                 om_mid, v_mid, om_end, v_end, self.panel_force, self.panel_moment,
                 hist_f[done:] if rows else hist_f, hist_m[done:] if rows else hist_m, todo, self.time,
-                self.mtab, self.use_f_ext, self.bonds, self.attached)
+                self.mtab, self.use_f_ext, self.bonds,
+                self.attached if self.attached is not None else _NO_ATTACHED)
             done += ran
             self.time = time
             self.step_count += ran
@@ -816,6 +817,9 @@ def _empty_pairs(n: int, cap: int) -> Pairs:
 def _empty_wall_pairs(n: int, cap: int) -> WallPairs:
     return WallPairs(start=np.zeros(n + 1, np.int64), panel=np.zeros(cap, np.int64),
                      ut=np.zeros((cap, 3)), active=np.zeros(cap, np.uint8), out=np.zeros((cap, 6)))
+
+
+_NO_ATTACHED = (np.zeros(0, np.int64), np.zeros(0, np.int64))
 
 
 def _index_bonds(bnd: Bonds, n: int) -> Bonds:

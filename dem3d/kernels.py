@@ -24,8 +24,7 @@ bitwise independent of the thread count and of the scheduler):
 4. ``panel_loads``     serial: sums the wall-pair forces per panel (force on the panel and
                        moment about the panel centre).
 
-Optional features are passed as ``None`` when off (material table, bonds, spheres
-attached to walls): numba compiles a separate specialisation for a None argument and
+Optional features are passed as ``None`` when off (material table, bonds): numba compiles a separate specialisation for a None argument and
 prunes the ``is None`` branches, so a run without them executes the single-material code
 unchanged (tests/dem3d/test_pinning.py checks it bit for bit). External forces are a
 run-time flag (one predictable branch per sphere).
@@ -1376,8 +1375,9 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     hist_force, hist_moment: (n_steps, p, 3) per-step panel loads, or 0 rows to skip.
     mtab, has_fext, bnd: material table or None, external forces on/off, Bonds or None
     (pair_forces, gather_and_move, bond_forces); bonds are evaluated first in each step.
-    att: None or (spheres, walls) int64 arrays of spheres carried by moving walls
-    (``move_attached``, after the spheres move, before the walls do).
+    att: (spheres, walls) int64 arrays of spheres carried by moving walls, empty for none
+    (``move_attached``, after the spheres move, before the walls do; one check per step,
+    so it is not a separate specialisation).
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
     that moved a sphere or a panel more than skin/2 since the last list build, or broke a
     bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
@@ -1403,9 +1403,8 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
             moved += m2
             bad += b2
             fast += f2
-        if att is not None:
-            if any_moving:
-                moved += move_attached(sph, att[0], att[1], v_mid[s], dt, ref_limit2)
+        if any_moving and att[0].shape[0] > 0:
+            moved += move_attached(sph, att[0], att[1], v_mid[s], dt, ref_limit2)
         if n_pan > 0:
             panel_loads(wps, pan, panel_force, panel_moment)
             if record:
