@@ -163,9 +163,9 @@ def test_cantilever_of_bonded_balls_follows_euler_bernoulli():
     assert res.frequency_over_beam == pytest.approx(1.0, abs=0.05)
 
 
-def test_checkpoint_with_bonds_materials_and_external_forces_resumes_bitwise():
-    """to_arrays / from_arrays carry bonds, the material table, external forces and
-    attached spheres: a split run ends bitwise where the unbroken run ends."""
+def test_checkpoint_with_bonds_external_forces_and_attached_spheres_resumes_bitwise():
+    """to_arrays / from_arrays carry bonds, external forces and attached spheres: a split
+    run ends bitwise where the unbroken run ends (materials: test_materials)."""
     from dem3d import Wall, plane, sine_ramp, shaking
     from dem3d.cantilever import strip_specimen
 
@@ -175,10 +175,8 @@ def test_checkpoint_with_bonds_materials_and_external_forces_resumes_bitwise():
         spec, row = strip_specimen(0.02, 5e-3)
         spec = spec._replace(positions=spec.positions + [0.0, 0.0, 0.00126])
         a = linear(1e6, 1e6, 0.5, zeta_n=0.1)
-        b = linear(3e6, 2e6, 0.3, zeta_n=0.1)
         walls = [Wall("base", plane((0, 0, 0), (0, 0, 1), mu=0.5), shaking(sine_ramp(20.0, 50.0, 0.01, 0.01, 0.01)))]
-        sim = Simulation(spec, a, dt=1e-12, walls=walls, materials=[a, b], sphere_material=(row % 2),
-                         wall_material={"base": 1})
+        sim = Simulation(spec, a, dt=1e-12, walls=walls)
         sim.make_bonds(1e-4, kn=prm.kn, ks=prm.ks, sigma_c=2e6, tau_c=2e6)
         sim.dt = 0.2 * min(sim.dt_critical_bonds, sim.dt_critical)
         sim.attach_to_wall(np.nonzero(row == 0)[0], "base")
