@@ -47,8 +47,9 @@ if case == "bonded":
                      walls=walls, periodic=Periodic(1, 0.0, bench.PERIOD_Y), skin=bench.SKIN, materials=[a, b],
                      sphere_material=mat, wall_material={"floor": 1})
     wall_zone = np.nonzero(pos[:, 0] < 0.6)[0]                          # a bonded block (~1/6 of the spheres)
-    nb = sim.make_bonds(0.2 * bench.SKIN, kn=8.3e6 / (np.pi * 0.025 ** 2) / 0.05, ks=3.32e6 / (np.pi * 0.025 ** 2) / 0.05,
-                        radius_multiplier=0.5, spheres=wall_zone, allow_unsafe_dt=True)
+    area = np.pi * (0.5 * 0.03) ** 2                                   # bond of half a mean radius
+    nb = sim.make_bonds(0.2 * bench.SKIN, kn=8.3e6 / area, ks=3.32e6 / area, radius_multiplier=0.5,
+                        spheres=wall_zone)                            # kn A ~ the contact's kn
     sim.step(1)
 else:
     sim = bench.build_problem(30_000)

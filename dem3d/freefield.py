@@ -41,6 +41,7 @@ import numpy as np
 from analytic.errors import InvalidParameter
 
 from .engine import Simulation
+from .measure import slice_averages
 from .walls import Motion, Panel, Wall
 
 
@@ -140,6 +141,14 @@ class FreeFieldBoundary:
             v_local = num / (self.mass / dt + self.area[s] * self.impedance)
             self.velocity[s] = q.T @ v_local
             self.motions[s].velocity.value = self.velocity[s].copy()
+
+
+def column_free_field(column: Simulation, edges, area: float) -> tuple[np.ndarray, np.ndarray]:
+    """(v_ff (ns, 3) [m/s], sigma_ff (ns, 3, 3) [Pa]) of a free-field column in slices
+    [edges[k], edges[k+1]) along z with cross-section ``area`` [m^2] (mass-weighted mean
+    velocity and Love-Weber stress, ``measure.slice_averages``): what ``update`` takes."""
+    av = slice_averages(column, edges, area)
+    return av.velocity, av.stress
 
 
 def step_coupled(sim: Simulation, boundaries: Sequence[FreeFieldBoundary], n_steps: int, *,
