@@ -126,7 +126,9 @@ class FreeFieldBoundary:
     def update(self, v_ff: np.ndarray, sigma_ff: np.ndarray) -> None:
         """Advance each segment's velocity over the next step from the last step's
         contact forces and the free-field state (v_ff (ns, 3) [m/s], sigma_ff (ns, 3, 3)
-        [Pa], tension positive) at its slice; call after every step of the main model."""
+        [Pa], tension positive, sigma_ab = <l_a f_b> as ``measure.slice_averages``, so the
+        traction on the plane of normal n is t_b = n_a sigma_ab) at its slice; call after
+        every step of the main model."""
         dt = self.sim.dt
         v_ff = np.asarray(v_ff, float).reshape(self.n_slices, 3)
         sigma_ff = np.asarray(sigma_ff, float).reshape(self.n_slices, 3, 3)
@@ -134,7 +136,7 @@ class FreeFieldBoundary:
         for s, panels in enumerate(self.panels):
             f_c = force[panels].sum(axis=0)
             n_out = -self.frame[s, 0]
-            t_ff = sigma_ff[s] @ n_out
+            t_ff = n_out @ sigma_ff[s]                  # t_b = n_a sigma_ab (Love-Weber's l_a f_b)
             q = self.frame[s]                          # world -> local rows
             num = (self.mass / dt) * (q @ self.velocity[s]) + q @ f_c + self.area[s] * (q @ t_ff) \
                 + self.area[s] * self.impedance * (q @ v_ff[s])

@@ -277,7 +277,7 @@ class SliceAverages(NamedTuple):
 
     centre:   (ns,) slice mid-coordinates [m]
     velocity: (ns, 3) mass-weighted mean sphere velocity [m/s] (leapfrog half step)
-    stress:   (ns, 3, 3) Love-Weber mean stress, tension positive [Pa]
+    stress:   (ns, 3, 3) Love-Weber mean stress sigma_ab = <l_a f_b>, tension positive [Pa]
     mass:     (ns,) sphere mass in the slice [kg] (by centre)
     """
 
@@ -294,7 +294,10 @@ def slice_averages(sim: Simulation, edges, area: float, axis: int = 2) -> SliceA
         sigma_ab = (1 / V) sum_{p in V} sum_{c of p} l_a f_b,
     l the branch from p's centre to the contact point, f the force on p there (contacts,
     panels, bonds), tension positive; in equilibrium a column's sigma_zz at depth is minus
-    the weight above per area. Symmetrised (the moments of bonds are not included)."""
+    the weight above per area. Not symmetrised: grains that rotate freely balance their
+    moments and make it symmetric in equilibrium; with rotations locked (or bond
+    moments, not included here) it need not be, and the traction on a plane of normal n
+    is then t_b = n_a sigma_ab (what dem3d.freefield uses)."""
     edges = np.asarray(edges, float)
     sph = sim.spheres
     ns = len(edges) - 1
@@ -314,7 +317,6 @@ def slice_averages(sim: Simulation, edges, area: float, axis: int = 2) -> SliceA
         np.add.at(stress, ss[ok], outer)
     volume = float(area) * np.diff(edges)
     stress /= volume[:, None, None]
-    stress = 0.5 * (stress + np.transpose(stress, (0, 2, 1)))
     return SliceAverages(0.5 * (edges[1:] + edges[:-1]), vel, stress, mass)
 
 
