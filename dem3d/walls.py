@@ -259,6 +259,16 @@ class AccelerationTable:
             d[k + 1] = d[k] + v[k] * h[k] + 0.5 * a[k] * h[k] ** 2 + slope[k] * h[k] ** 3 / 6.0
         self.times, self.accel, self.slope, self.v, self.d = t, a, slope, v, d
 
+    @classmethod
+    def sampled(cls, accel: Callable[[float], float], t_end: float, samples: int,
+                direction: Vector = (1.0, 0.0, 0.0)) -> "AccelerationTable":
+        """A table of a(t) [m/s^2] (a function of time, scalar along ``direction`` or
+        a 3-vector) sampled at ``samples`` equal steps on [0, t_end] [s]: the motion is
+        then that piecewise-linear interpolant, integrated exactly."""
+        t = np.linspace(0.0, float(t_end), int(samples) + 1)
+        a = np.array([accel(float(tk)) for tk in t], float)
+        return cls(t, a, direction)
+
     def _segment(self, t: float):
         k = int(np.searchsorted(self.times, t, side="right")) - 1
         return min(k, len(self.times) - 1)

@@ -194,3 +194,33 @@ def test_checkpoint_with_bonds_external_forces_and_attached_spheres_resumes_bitw
     for k in a:
         assert np.array_equal(a[k], b[k]), k
     assert np.abs(whole.bonds.fn).max() > 0
+
+
+def test_a_spinning_bonded_pair_carries_only_the_centripetal_tension():
+    """Objectivity of the incremental update: two bonded balls spinning rigidly at
+    omega about their midpoint (no gravity) need the tension m omega^2 R (each ball on a
+    circle of radius R): over one turn the bond's normal force oscillates about it (it
+    starts unloaded) while its shear force stays < 1 % of it and no bending or twisting
+    appears; spinning about the bond axis loads nothing."""
+    m = sphere_mass(R, RHO)
+    om = 20.0
+    for axis, loaded in (((0.0, 0.0, 1.0), True), ((1.0, 0.0, 0.0), False)):
+        w = om * np.array(axis)
+        x = np.array([[0.5, 0.5, 0.5], [0.5 + 2 * R, 0.5, 0.5]])
+        spec = single_specimen(x, R, RHO, velocities=np.cross(w, x - [0.5 + R, 0.5, 0.5]))
+        sim = Simulation(spec, linear(1e5, 4e4, 0.5), dt=2e-6, gravity=(0, 0, 0), sort_by_cell=False)
+        sim.make_bonds(1e-6 * R, kn=KN, ks=KS)
+        sim.spheres.w[:] = w
+        fn, fs, other = [], [], []
+        for _ in range(100):
+            sim.step(int(2 * math.pi / om / 100 / sim.dt))
+            fn.append(sim.bonds.fn[0])
+            fs.append(np.linalg.norm(sim.bonds.fs[0]))
+            other.append(np.linalg.norm(sim.bonds.mb[0]) + abs(sim.bonds.mt[0]))
+        tension = m * om ** 2 * R
+        if loaded:
+            assert -np.mean(fn) == pytest.approx(tension, rel=0.03)
+            assert max(fs) < 0.01 * tension
+        else:
+            assert np.abs(fn).max() == 0.0 and max(fs) == 0.0
+        assert max(other) == 0.0

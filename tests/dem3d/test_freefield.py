@@ -83,7 +83,7 @@ def returned_energy(kind, boundary):
 @pytest.mark.parametrize("kind", ["p", "s"])
 def test_free_field_boundary_absorbs_a_plane_pulse(kind):
     """Incident energies agree (same model up to the boundary); the energy returned by
-    the free-field boundary is < 20 % of the rigid wall's (obtained: ~1-3 %, the segment
+    the free-field boundary is < 20 % of the rigid wall's (obtained 0.76 % P, 0.73 % S; the segment
     mass M = one grain reflects |r|^2 ~ (w M / 2 sqrt(k m))^2 ~ 2.5 %)."""
     inc_r, ret_r, _ = returned_energy(kind, "rigid")
     inc_f, ret_f, sim = returned_energy(kind, "free")

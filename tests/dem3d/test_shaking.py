@@ -62,6 +62,10 @@ def test_acceleration_table_integrates_exactly():
     assert tab.displacement(2.0)[2] == pytest.approx(2.0, rel=1e-14)
     assert tab.displacement(3.0)[2] == pytest.approx(4.0, rel=1e-14)
     assert tab.acceleration(0.5)[2] == 1.0 and tab.acceleration(2.5)[2] == 0.0
+    # a function, sampled: a = sin t on [0, pi] gives v(pi) = 2 to the trapezoid rule's
+    # error pi h^2 / 12 (h = pi / 1000)
+    fn = AccelerationTable.sampled(math.sin, math.pi, 1000)
+    assert fn.velocity(math.pi)[0] == pytest.approx(2.0, abs=math.pi * (math.pi / 1000) ** 2 / 12 * 1.01)
 
 
 def test_sine_ramp_envelope_and_baseline():
