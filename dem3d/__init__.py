@@ -25,20 +25,36 @@ its base, the backfill on +x)::
     for f in run(sim, 20_000, every=1000):
         f.panel_force, f.panel_moment            # (6 + box panels, 3) [N], [N m]
 
-Modules: params (laws, time step), state (SoA records), clumps (mass properties),
-walls (panels, motions), kernels (all numba code), engine (Simulation), run (Frame,
-run), prep (generation, settling), measure (porosity, stresses, energies, chains).
+Modules: params (laws, time step, materials per pair), state (SoA records), clumps
+(mass properties), walls (panels, motions, displacement/acceleration histories for base
+shaking), kernels (all numba code), engine (Simulation: external forces, parallel bonds,
+spheres attached to walls), run (Frame, run), prep (generation, settling), measure
+(porosity, stresses, energies, chains, slice averages, section forces of bonded
+structures, strain fields, settlement), cantilever (bond calibration of a bonded strip
+and its Euler-Bernoulli check), freefield (absorbing free-field lateral boundaries).
+
+Dynamics (issue 22), e.g. a bonded sheet and a shaken base::
+
+    from dem3d import sine_ramp, shaking
+    from dem3d.cantilever import calibrate_strip
+    sim = Simulation(spec, soil, dt=dt, materials=[soil, wall_law], sphere_material=ids,
+                     walls=[Wall("base", plane((0, 0, 0), (0, 0, 1), mu=0.6),
+                                 shaking(sine_ramp(0.1 * 50 * 9.81, 250.0, 0.06, 0.08, 0.02)))])
+    bonds = calibrate_strip(40e9, 5e-3)
+    sim.make_bonds(1e-5, kn=bonds.kn, ks=bonds.ks, spheres=wall_ids)
+    sim.attach_to_wall(base_layer_ids, "base")          # a rough base moving with it
 """
 
 from .engine import Periodic, Simulation
 from .errors import BlowUp
 from .params import (ABSOLUTE, DT_SAFETY, HERTZ_MINDLIN, LINEAR, RATIO, ContactParams, check_time_step,
-                     critical_time_step, hertz_mindlin, linear, restitution_to_damping_ratio,
-                     with_local_damping)
+                     critical_time_step, hertz_mindlin, linear, material_table, mix, pair_params,
+                     restitution_to_damping_ratio, with_local_damping)
 from .prep import SettleResult, random_specimen, settle
 from .run import Frame, contacts, frame, run
-from .state import Specimen
-from .walls import FIXED, Motion, Panel, Ramp, Wall, box, plane, rectangle, rotation, segmented_wall, translation
+from .state import Bonds, Specimen
+from .walls import (FIXED, AccelerationTable, Motion, Panel, Ramp, Wall, box, history, plane, rectangle, rotation,
+                    segmented_wall, shaking, sine_envelope, sine_ramp, translation)
 
 __all__ = [
     "Simulation", "Periodic", "BlowUp", "Specimen", "Frame", "frame", "run", "contacts",
@@ -46,4 +62,6 @@ __all__ = [
     "critical_time_step", "check_time_step", "DT_SAFETY", "LINEAR", "HERTZ_MINDLIN", "RATIO", "ABSOLUTE",
     "Wall", "Panel", "Motion", "FIXED", "Ramp", "plane", "rectangle", "box", "segmented_wall",
     "translation", "rotation", "random_specimen", "settle", "SettleResult",
+    "mix", "material_table", "pair_params", "Bonds", "AccelerationTable", "history", "shaking", "sine_envelope",
+    "sine_ramp",
 ]

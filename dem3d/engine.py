@@ -27,8 +27,8 @@ from analytic.errors import InvalidParameter
 from . import kernels
 from .clumps import clump_properties, matrix_to_quaternion, principal_frame
 from .errors import BlowUp
-from .params import ContactParams, check_time_step, critical_time_step
-from .state import Clumps, Pairs, Spheres, Specimen, WallPairs
+from .params import ContactParams, check_time_step, critical_time_step, material_table, pair_params
+from .state import Bonds, Clumps, Pairs, Spheres, Specimen, WallPairs
 from .walls import Wall, WallSet
 
 
@@ -63,13 +63,23 @@ class Simulation:
                     the thread count
     sort_every:     re-sort bodies by cell (``sort_by_cell``) at every this many
                     neighbour-list builds, 0 = never; Frames stay in specimen order
+    materials:      None (``params`` for every contact, the single-material path) or a
+                    sequence of ContactParams, one per material (a contact between two
+                    grains of it); pairs mix by ``dem3d.params.mix`` unless given in
+                    ``material_pairs`` {(a, b): ContactParams}. ``params`` must share their
+                    law, damping mode and Coulomb cap and gives the local damping.
+    sphere_material: (n,) material id per sphere, specimen order (default 0)
+    wall_material:  {wall name: material id} (default 0); with materials, a panel contact
+                    uses the pair's parameters, its friction included (the panel's own mu
+                    is then not used)
     """
 
     def __init__(self, specimen: Specimen, params: ContactParams, *, dt: float,
                  walls: Sequence[Wall] = (), gravity=(0.0, 0.0, -9.81),
                  periodic: Periodic | None = None, skin: float | None = None,
                  allow_unsafe_dt: bool = False, sort_by_cell: bool = True,
-                 spheres_per_thread: int = 4000, sort_every: int = 50):
+                 spheres_per_thread: int = 4000, sort_every: int = 50, materials=None,
+                 sphere_material=None, wall_material=None, material_pairs=None):
         pos = np.ascontiguousarray(specimen.positions, float).reshape(-1, 3)
         n = pos.shape[0]
         radii = np.ascontiguousarray(specimen.radii, float).reshape(-1)
@@ -96,9 +106,19 @@ class Simulation:
         self.skin = 0.4 * r_min if skin is None else float(skin)
         if not self.skin > 0:
             raise InvalidParameter("skin", self.skin, "> 0 m")
-        self.dt_critical = critical_time_step(params, density * 4.0 / 3.0 * math.pi * r_min ** 3,
-                                              r_min, density)
+        self.mtab = None
+        if materials is not None:
+            self.mtab = material_table(materials, material_pairs)
+            for name in ("law", "damping", "coulomb"):
+                if getattr(params, name) != getattr(materials[0], name):
+                    raise InvalidParameter(f"params.{name}", getattr(params, name),
+                                           f"the materials' {getattr(materials[0], name)}")
+        self.dt_critical = self._critical_step(params, r_min, density)
         self.dt = check_time_step(dt, self.dt_critical, allow_unsafe=allow_unsafe_dt)
+        self.bonds: Bonds | None = None
+        self.dt_critical_bonds = math.inf
+        self.use_f_ext = False
+        self.attached: tuple[np.ndarray, np.ndarray] | None = None
         bodies = _body_ranges(labels)
         if periodic is not None:
             _check_periodic(periodic, float(radii.max()), self.skin)
@@ -112,6 +132,19 @@ class Simulation:
         pos, radii, labels, vel = pos[new_to_old], radii[new_to_old], labels[new_to_old], vel[new_to_old]
         self.spheres, self.clumps = _build_bodies(pos, radii, labels, vel, density)
         self.walls = WallSet(walls)
+        if sphere_material is not None or wall_material is not None:
+            if self.mtab is None:
+                raise InvalidParameter("materials", None, "a sequence of ContactParams when material ids are given")
+            nm = self.mtab.shape[0]
+            if sphere_material is not None:
+                ids = np.asarray(sphere_material, np.int64).reshape(-1)
+                if ids.shape[0] != n or ids.min() < 0 or ids.max() >= nm:
+                    raise InvalidParameter("sphere_material", f"{ids.shape[0]} ids", f"{n} ids in [0, {nm})")
+                self.spheres.mat[:] = ids[new_to_old]
+            for name, mid in (wall_material or {}).items():
+                if name not in self.walls.names or not 0 <= int(mid) < nm:
+                    raise InvalidParameter("wall_material", (name, mid), f"a wall name and an id in [0, {nm})")
+                self.walls.panels.mat[self.walls.panel_ids(name)] = int(mid)
         if periodic is not None:
             _check_panels_periodic(self.walls, periodic.axis)
         self.walls.set_velocities(0.0)
@@ -128,6 +161,16 @@ class Simulation:
         self._rows = np.empty((n, 16), np.int64)
         self._rebuild(first=True)
         self._need_rebuild = False
+
+    def _critical_step(self, params: ContactParams, r_min: float, density: float) -> float:
+        """Reference critical step of the contact law(s): ``critical_time_step`` of
+        ``params``, or the smallest over the material table's pairs."""
+        m_min = density * 4.0 / 3.0 * math.pi * r_min ** 3
+        if self.mtab is None:
+            return critical_time_step(params, m_min, r_min, density)
+        nm = self.mtab.shape[0]
+        return min(critical_time_step(pair_params(self.mtab, a, b), m_min, r_min, density)
+                   for a in range(nm) for b in range(nm))
 
     # ---------------------------------------------------------------- properties
     @property
@@ -164,8 +207,7 @@ class Simulation:
     def set_params(self, params: ContactParams, *, allow_unsafe_dt: bool = False) -> None:
         """Swap the contact law between stages (e.g. local damping on for settling). The
         time step is re-checked against the new stiffness (one-line InvalidParameter)."""
-        r_min = self.r_min
-        crit = critical_time_step(params, self.density * 4.0 / 3.0 * math.pi * r_min ** 3, r_min, self.density)
+        crit = self._critical_step(params, self.r_min, self.density)
         check_time_step(self.dt, crit, allow_unsafe=allow_unsafe_dt)
         self.params = params
         self.dt_critical = crit
@@ -195,6 +237,123 @@ class Simulation:
                     self.clumps.am[c] = 0.0
                     self.clumps.w[c] = 0.0
                     sph.w[members] = 0.0
+
+    # ---------------------------------------------------------------- external forces
+    @property
+    def f_ext(self) -> np.ndarray:
+        """(n, 3) external force per sphere [N] in ENGINE order (``original_index[k]`` is
+        the specimen index of row k), added to each sphere's contact force while
+        ``use_f_ext`` is on; write into it between steps (``set_external_force`` takes
+        specimen order). Kept in step with the spheres when the engine re-sorts them."""
+        return self.spheres.f_ext
+
+    def set_external_force(self, force, *, specimen_order: bool = True) -> None:
+        """Set the external force on every sphere [N] ((n, 3), or (3,) for all alike) and
+        switch external forces on. A free sphere then moves with a = (F_contact + F_ext) / m
+        + g; a clump member's F_ext acts on its clump at the member's centre."""
+        f = np.asarray(force, float)
+        n = self.n_spheres
+        f = np.broadcast_to(f, (n, 3)) if f.shape == (3,) else f.reshape(n, 3)
+        if not np.all(np.isfinite(f)):
+            raise InvalidParameter("force", "non-finite", "finite values [N]")
+        self.spheres.f_ext[:] = f[self.original_index] if specimen_order else f
+        self.use_f_ext = True
+
+    def clear_external_force(self) -> None:
+        """Zero the external forces and switch them off (the single-material fast path)."""
+        self.spheres.f_ext[:] = 0.0
+        self.use_f_ext = False
+
+    # ---------------------------------------------------------------- parallel bonds
+    def make_bonds(self, gap: float, *, kn: float, ks: float, radius_multiplier: float = 1.0,
+                   sigma_c: float = math.inf, tau_c: float = math.inf, spheres=None,
+                   allow_unsafe_dt: bool = False) -> int:
+        """Make a parallel bond (Potyondy & Cundall 2004) between every pair of the given
+        spheres (specimen indices; default all) whose surfaces are less than ``gap`` [m]
+        apart now (|x_j - x_i| < r_i + r_j + gap, minimum image across the periodic
+        boundary, so bonds may cross it), and that are not bonded yet nor in one clump.
+
+        kn, ks:            normal / shear stiffness per unit area [N/m^3]
+        radius_multiplier: lambda, bond radius = lambda min(r_i, r_j)
+        sigma_c, tau_c:    tensile / shear strength [Pa] (inf: unbreakable)
+        The bonds start unloaded at the current positions. While a bond is intact its pair
+        is left out of the neighbour list, so the bond replaces the contact law (it is not
+        summed with it): the bond stiffness is then the whole stiffness of the joint, as the
+        calibration (dem3d.cantilever) assumes, and the joint is as stiff in compression as
+        in tension; a broken bond's pair returns to the contact law at once.
+        The time step is checked against the bonds' stiffness (``dt_critical_bonds``).
+        Returns the number of bonds made.
+        """
+        gap = float(gap)
+        if not 0.0 <= gap <= self.skin:
+            raise InvalidParameter("gap", gap, f"[0, skin = {self.skin:.4g}] m")
+        for name, val in (("kn", kn), ("ks", ks), ("radius_multiplier", radius_multiplier)):
+            if not (val > 0 and math.isfinite(val)):
+                raise InvalidParameter(name, val, "> 0")
+        if not (sigma_c > 0 and tau_c > 0):
+            raise InvalidParameter("strength", (sigma_c, tau_c), "> 0 Pa (inf: unbreakable)")
+        self._rebuild()
+        self._need_rebuild = False
+        n = self.n_spheres
+        chosen = np.ones(n, bool)
+        if spheres is not None:
+            chosen[:] = False
+            engine = np.empty(n, np.int64)
+            engine[self.original_index] = np.arange(n)
+            chosen[engine[np.asarray(spheres, np.int64)]] = True
+        prs = self.pairs
+        total = int(prs.start[-1])
+        i = np.repeat(np.arange(n, dtype=np.int64), np.diff(prs.start))
+        j = prs.nbr[:total].copy()
+        d = self.spheres.x[j] - self.spheres.x[i]
+        if self.periodic is not None:
+            ax, length = self.periodic.axis, self.periodic.length
+            d[:, ax] -= length * np.round(d[:, ax] / length)
+        r = self.spheres.r
+        keep = chosen[i] & chosen[j] & (np.sqrt((d * d).sum(axis=1)) < r[i] + r[j] + gap)
+        i, j = i[keep], j[keep]
+        nb = len(i)
+        rb = float(radius_multiplier) * np.minimum(r[i], r[j])
+        new = Bonds(i=i, j=j, kn=np.full(nb, float(kn)), ks=np.full(nb, float(ks)), rb=rb,
+                    sigma_c=np.full(nb, float(sigma_c)), tau_c=np.full(nb, float(tau_c)),
+                    state=np.full(nb, 2, np.uint8), fn=np.zeros(nb), fs=np.zeros((nb, 3)), mt=np.zeros(nb),
+                    mb=np.zeros((nb, 3)), out=np.zeros((nb, 12)), start=np.zeros(n + 1, np.int64),
+                    entry=np.zeros(2 * nb, np.int64))
+        if self.bonds is not None:
+            new = Bonds(*[np.concatenate([a, b]) if f not in ("start", "entry") else b
+                          for f, a, b in zip(Bonds._fields, self.bonds, new)])
+        crit = _bond_critical_step(new, r, self.density)
+        check_time_step(self.dt, crit, allow_unsafe=allow_unsafe_dt)
+        self.dt_critical_bonds = crit
+        self.bonds = _index_bonds(new, n)
+        self._need_rebuild = True          # bonded pairs leave the contact list
+        return nb
+
+    def attach_to_wall(self, spheres, wall: str) -> None:
+        """Carry free spheres (specimen indices) rigidly with a wall's translation (e.g. a
+        layer of grains glued to a shaken base to make it rough): they are locked
+        (translation and rotation) and move by the wall's pivot displacement each step
+        with its half-step velocity (``kernels.move_attached``); wall rotation is not
+        applied to them."""
+        if wall not in self.walls.names:
+            raise InvalidParameter("wall", wall, ", ".join(self.walls.names))
+        idx = np.asarray(spheres, np.int64).reshape(-1)
+        engine = np.empty(self.n_spheres, np.int64)
+        engine[self.original_index] = np.arange(self.n_spheres)
+        rows = engine[idx]
+        if np.any(self.spheres.clump[rows] >= 0):
+            raise InvalidParameter("spheres", "clump members", "free spheres")
+        self.lock(rows, translation=True, rotation=True)
+        k = self.walls.names.index(wall)
+        old_s, old_w = self.attached if self.attached is not None else (np.zeros(0, np.int64),) * 2
+        self.attached = (np.concatenate([old_s, rows]).astype(np.int64),
+                         np.concatenate([old_w, np.full(len(rows), k, np.int64)]))
+
+    def bond_pairs(self) -> tuple[np.ndarray, np.ndarray]:
+        """(i, j) specimen indices of every bond (broken ones included; see bonds.state)."""
+        if self.bonds is None:
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        return self.original_index[self.bonds.i], self.original_index[self.bonds.j]
 
     def step(self, n_steps: int = 1, *, record_panels: bool = False):
         """Advance ``n_steps`` time steps.
@@ -240,7 +399,9 @@ class Simulation:
                 self.dt, gx, gy, gz, pax, plen, self.skin, speed_limit2,
                 self.walls.wall_of_panel, moving, self.walls.pivot, self.walls.axis, ref[0], ref[1], ref[2],
                 om_mid, v_mid, om_end, v_end, self.panel_force, self.panel_moment,
-                hist_f[done:] if rows else hist_f, hist_m[done:] if rows else hist_m, todo, self.time)
+                hist_f[done:] if rows else hist_f, hist_m[done:] if rows else hist_m, todo, self.time,
+                self.mtab, self.use_f_ext, self.bonds,
+                self.attached if self.attached is not None else _NO_ATTACHED)
             done += ran
             self.time = time
             self.step_count += ran
@@ -261,9 +422,11 @@ class Simulation:
         if self._need_rebuild:
             self._rebuild()
         pax, plen = self._periodic_args()
-        kernels.pair_forces(self.spheres, self.pairs, self.params, self.dt, pax, plen)
+        if self.bonds is not None:
+            kernels.bond_forces(self.spheres, self.bonds, self.dt, pax, plen)
+        kernels.pair_forces(self.spheres, self.pairs, self.params, self.dt, pax, plen, self.mtab)
         kernels.gather_and_move(self.spheres, self.pairs, self.wall_pairs, self.walls.panels, self.params,
-                                self.dt, 0.0, 0.0, 0.0, 0.0, 0.0, False)
+                                self.dt, 0.0, 0.0, 0.0, 0.0, 0.0, False, self.mtab, self.use_f_ext, self.bonds)
         if self.walls.n_panels:
             kernels.panel_loads(self.wall_pairs, self.walls.panels, self.panel_force, self.panel_moment)
         return self.spheres.f.copy(), self.spheres.t.copy()
@@ -274,7 +437,7 @@ class Simulation:
         if self._need_rebuild:
             self._rebuild()
         return float(kernels.contact_energy(self.spheres, self.pairs, self.wall_pairs, self.walls.panels,
-                                            self.params, pax, plen))
+                                            self.params, pax, plen, self.mtab))
 
     # ---------------------------------------------------------------- neighbour lists
     def _periodic_args(self) -> tuple[int, float]:
@@ -362,6 +525,15 @@ class Simulation:
                                 if f not in ("members", "offset")},
                              members=members, offset=np.ascontiguousarray(clu.offset[new_to_old]))
         self.original_index = self.original_index[new_to_old]
+        if self.bonds is not None:
+            old_to_new = np.empty(n, np.int64)
+            old_to_new[new_to_old] = np.arange(n)
+            bnd = self.bonds._replace(i=old_to_new[self.bonds.i], j=old_to_new[self.bonds.j])
+            self.bonds = _index_bonds(bnd, n)
+        if self.attached is not None:
+            old_to_new = np.empty(n, np.int64)
+            old_to_new[new_to_old] = np.arange(n)
+            self.attached = (old_to_new[self.attached[0]], self.attached[1])
         self._rebuild(new_to_old=new_to_old)
         return new_to_old
 
@@ -383,7 +555,7 @@ class Simulation:
         clump_sorted = sph.clump[order]
         while True:      # fixed-capacity rows; on overflow (checked here) grow and scan again
             kernels.scan_pairs(sph.x, sph.r, sph.clump, cell, cell_start, order, xr, clump_sorted, nc, pax,
-                               plen, self.skin, kernels._FORWARD, self._rows, counts)
+                               plen, self.skin, kernels._FORWARD, self._rows, counts, self.bonds)
             widest = int(counts.max()) if n else 0
             if widest <= self._rows.shape[1]:
                 break
@@ -442,6 +614,15 @@ class Simulation:
                 out[f"{prefix}.{name}"] = np.array(arr, copy=True)
         for name, value in self.params._asdict().items():
             out[f"params.{name}"] = np.array(value)
+        if self.mtab is not None:
+            out["materials"] = self.mtab.copy()
+        if self.bonds is not None:
+            for name, arr in self.bonds._asdict().items():
+                out[f"bonds.{name}"] = np.array(arr, copy=True)
+            out["dt_critical_bonds"] = np.array(self.dt_critical_bonds)
+        out["use_f_ext"] = np.array(self.use_f_ext)
+        if self.attached is not None:
+            out["attached.spheres"], out["attached.walls"] = (a.copy() for a in self.attached)
         out["walls.pivot"] = self.walls.pivot.copy()
         out["walls.ref_centre"], out["walls.ref_e1"], out["walls.ref_e2"] = (a.copy() for a in self.walls._ref)
         out["panel_force"] = self.panel_force.copy()
@@ -471,7 +652,18 @@ class Simulation:
             raise InvalidParameter("version", int(a["version"]), f"{_STATE_VERSION}")
         self = cls.__new__(cls)
         self.params = ContactParams(**{f: a[f"params.{f}"].item() for f in ContactParams._fields})
+        n_sph = a["spheres.x"].shape[0]
+        a.setdefault("spheres.mat", np.zeros(n_sph, np.int32))          # states saved before materials
+        a.setdefault("spheres.f_ext", np.zeros((n_sph, 3)))
+        a.setdefault("panels.mat", np.zeros(a["panels.centre"].shape[0], np.int32))
         self.spheres = Spheres(**{f: np.ascontiguousarray(a[f"spheres.{f}"]) for f in Spheres._fields})
+        self.mtab = a["materials"].copy() if "materials" in a else None
+        self.bonds = (Bonds(**{f: np.ascontiguousarray(a[f"bonds.{f}"]) for f in Bonds._fields})
+                      if "bonds.i" in a else None)
+        self.dt_critical_bonds = float(a["dt_critical_bonds"]) if "dt_critical_bonds" in a else math.inf
+        self.use_f_ext = bool(a["use_f_ext"]) if "use_f_ext" in a else False
+        self.attached = ((a["attached.spheres"].astype(np.int64), a["attached.walls"].astype(np.int64))
+                         if "attached.spheres" in a else None)
         self.clumps = Clumps(**{f: np.ascontiguousarray(a[f"clumps.{f}"]) for f in Clumps._fields})
         n = self.spheres.x.shape[0]
         self._pair_bufs = [Pairs(**{f: np.ascontiguousarray(a[f"pairs.{f}"]) for f in Pairs._fields}),
@@ -606,7 +798,8 @@ def _build_bodies(pos, radii, labels, vel, density) -> tuple[Spheres, Clumps]:
     nc = len(clump_ranges)
     spheres = Spheres(x=np.ascontiguousarray(x), v=np.ascontiguousarray(v), w=np.zeros((n, 3)),
                       r=radii.copy(), inv_m=inv_m, inv_i=inv_i, clump=clump_of, body_id=body_id,
-                      f=np.zeros((n, 3)), t=np.zeros((n, 3)), x_ref=x.copy())
+                      f=np.zeros((n, 3)), t=np.zeros((n, 3)), x_ref=x.copy(), mat=np.zeros(n, np.int32),
+                      f_ext=np.zeros((n, 3)))
     clumps = Clumps(x=np.array(cl_x, float).reshape(nc, 3), v=np.array(cl_v, float).reshape(nc, 3),
                     am=np.zeros((nc, 3)), w=np.zeros((nc, 3)), q=np.array(cl_q, float).reshape(nc, 4),
                     inv_m=np.array(cl_im, float).reshape(nc), inv_i=np.array(cl_ii, float).reshape(nc, 3),
@@ -624,3 +817,35 @@ def _empty_pairs(n: int, cap: int) -> Pairs:
 def _empty_wall_pairs(n: int, cap: int) -> WallPairs:
     return WallPairs(start=np.zeros(n + 1, np.int64), panel=np.zeros(cap, np.int64),
                      ut=np.zeros((cap, 3)), active=np.zeros(cap, np.uint8), out=np.zeros((cap, 6)))
+
+
+_NO_ATTACHED = (np.zeros(0, np.int64), np.zeros(0, np.int64))
+
+
+def _index_bonds(bnd: Bonds, n: int) -> Bonds:
+    """Bonds with the per-sphere index (start, entry) rebuilt: sphere s's entries list
+    2 b + side in increasing bond index b, so the gather order is fixed."""
+    nb = bnd.i.shape[0]
+    sphere = np.concatenate([bnd.i, bnd.j]).astype(np.int64)
+    entry = np.concatenate([2 * np.arange(nb), 2 * np.arange(nb) + 1]).astype(np.int64)
+    order = np.lexsort((entry, sphere))
+    start = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(sphere, minlength=n), out=start[1:])
+    return bnd._replace(i=np.ascontiguousarray(bnd.i, np.int64), j=np.ascontiguousarray(bnd.j, np.int64),
+                        start=start, entry=np.ascontiguousarray(entry[order]))
+
+
+def _bond_critical_step(bnd: Bonds, r: np.ndarray, density: float) -> float:
+    """Reference critical step of the bonds [s]: the smallest of sqrt(m / (k A)) (axial,
+    shear) and sqrt(I_s / (k I_b)) (bending, twisting) over every bond, with m, I_s the
+    lighter sphere's mass and moment of inertia (2/5 m r^2), k A = max(kn A, ks A),
+    k I_b = max(kn I, ks J) (the PFC rule, as ``critical_time_step`` for contacts)."""
+    if bnd.i.shape[0] == 0:
+        return math.inf
+    rs = np.minimum(r[bnd.i], r[bnd.j])
+    m = density * 4.0 / 3.0 * math.pi * rs ** 3
+    area = math.pi * bnd.rb ** 2
+    inertia = 0.25 * math.pi * bnd.rb ** 4
+    k_lin = np.maximum(bnd.kn, bnd.ks) * area
+    k_rot = np.maximum(bnd.kn * inertia, bnd.ks * 2.0 * inertia)
+    return float(min(np.sqrt(m / k_lin).min(), np.sqrt(0.4 * m * rs ** 2 / k_rot).min()))

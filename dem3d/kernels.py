@@ -8,6 +8,9 @@ geometry helpers and the loops that call them together makes a stale cache impos
 Layout of one time step (no shared accumulator in any parallel loop, so every result is
 bitwise independent of the thread count and of the scheduler):
 
+0. ``bond_forces``     (only with parallel bonds) prange over bonds: each bond updates its
+                       own force and moment and writes the loads on its two spheres in
+                       its own row; pass 2 gathers them per sphere in bond order.
 1. ``pair_forces``     prange over spheres i: each pair listed under i (half list: every
                        pair once) evaluates the contact law once, updates its own
                        tangential history, sums the force on i, and stores the force on
@@ -20,6 +23,11 @@ bitwise independent of the thread count and of the scheduler):
                        the rigid body (quaternion), places the members.
 4. ``panel_loads``     serial: sums the wall-pair forces per panel (force on the panel and
                        moment about the panel centre).
+
+Optional features are passed as ``None`` when off (material table, bonds): numba compiles a separate specialisation for a None argument and
+prunes the ``is None`` branches, so a run without them executes the single-material code
+unchanged (tests/dem3d/test_pinning.py checks it bit for bit). External forces are a
+run-time flag (one predictable branch per sphere).
 
 The leapfrog (central difference, as PFC) uses v(t - dt/2) in the velocity-dependent
 forces at time t, then v(t + dt/2) = v(t - dt/2) + dt a(t), x(t + dt) = x(t) + dt v(t + dt/2).
@@ -41,6 +49,7 @@ from numba import njit, prange
 FASTMATH = False       # see the module docstring
 
 from . import params as _params
+from .params import ContactParams
 
 # switch values as plain module constants (numba freezes them into the compiled code)
 LINEAR = 0
@@ -146,6 +155,16 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy,
     return -fn * nx + ftx, -fn * ny + fty, -fn * nz + ftz, fn, ux, uy, uz
 
 
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def pair_params(mtab, a, b):
+    """ContactParams of the material pair (a, b) from a material table (nm, nm, 11)
+    (dem3d.params.material_table): the same record the single-material path passes, so
+    a contact between two materials runs the identical law with the pair's numbers."""
+    row = mtab[a, b]
+    return ContactParams(int(row[0]), row[1], row[2], row[3], row[4], int(row[5]), row[6], row[7],
+                         row[8], row[9], int(row[10]))
+
+
 @njit(cache=True, fastmath=FASTMATH)
 def elastic_energy(prm, delta, r_eff):
     """Normal elastic energy of one contact [J]: kn delta^2 / 2 (linear) or
@@ -224,10 +243,15 @@ def panel_closest_point(px, py, pz, pan, p):
 # --------------------------------------------------------------------------------------
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
-def pair_forces(sph, prs, prm, dt, pax, plen):
+def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
     """Pass 1 (module docstring): evaluate every half-list pair once. The force and torque
     on the first sphere i are summed into sph.f / sph.t; those on the second sphere j are
-    written to the pair's slot in the transposed order (``prs.pf``), which pass 2 adds."""
+    written to the pair's slot in the transposed order (``prs.pf``), which pass 2 adds.
+
+    mtab: None (one material: ``prm`` for every pair; numba compiles this case without
+    any lookup, so it is the single-material code unchanged) or a material table
+    (nm, nm, 11): the pair's ContactParams are looked up by sph.mat[i], sph.mat[j]
+    (``prm`` then only gives the model-wide law/damping mode, which the table shares)."""
     x = sph.x
     v = sph.v
     w = sph.w
@@ -240,6 +264,7 @@ def pair_forces(sph, prs, prm, dt, pax, plen):
     ut = prs.ut
     active = prs.active
     pf = prs.pf
+    mat = sph.mat
     mu = prm.mu
     need_m = prm.damping == RATIO
     need_r = prm.law == HERTZ_MINDLIN
@@ -305,8 +330,13 @@ def pair_forces(sph, prs, prm, dt, pax, plen):
                 s = imi + inv_m[j]
                 m_eff = 1.0 / s if s > 0.0 else 0.0
             r_eff = ri * r[j] / rs if need_r else 0.0
-            fx, fy, fz, fn, ux, uy, uz = contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz,
-                                                     m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
+            if mtab is None:
+                fx, fy, fz, fn, ux, uy, uz = contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz,
+                                                         m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
+            else:
+                pp = pair_params(mtab, mat[i], mat[j])
+                fx, fy, fz, fn, ux, uy, uz = contact_law(pp, pp.mu, delta, nx, ny, nz, vrx, vry, vrz,
+                                                         m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
             ut[k, 0] = ux
             ut[k, 1] = uy
             ut[k, 2] = uz
@@ -338,10 +368,15 @@ def pair_forces(sph, prs, prm, dt, pax, plen):
 
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
-def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_limit2, integrate):
+def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_limit2, integrate,
+                    mtab, has_fext, bnd):
     """Pass 2 (see module docstring): total contact force and torque per sphere (starting
-    from pass 1's partial sums in sph.f / sph.t), wall contacts, and the leapfrog update of
-    free spheres (if ``integrate``). Must follow ``pair_forces``.
+    from pass 1's partial sums in sph.f / sph.t), bond forces (``bnd``: None or Bonds,
+    from ``bond_forces``, gathered per sphere in increasing bond order), wall contacts,
+    the external force sph.f_ext (if ``has_fext``), and the leapfrog update of free
+    spheres (if ``integrate``). Must follow ``pair_forces``. ``mtab`` as in pair_forces
+    (panel material sph.mat / pan.mat; the pair's friction replaces the panel's mu).
+    sph.f / sph.t hold the total (contact + bond + external) force and torque afterwards.
 
     Returns (n_moved, n_bad, n_fast): spheres farther than sqrt(ref_limit2) from their
     position at the last list build, spheres with a non-finite state, spheres faster than
@@ -381,6 +416,17 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
             tx += pf[kk, 3]
             ty += pf[kk, 4]
             tz += pf[kk, 5]
+        if bnd is not None:
+            for kk in range(bnd.start[i], bnd.start[i + 1]):
+                e = bnd.entry[kk]
+                b = e >> 1
+                o = 6 * (e & 1)
+                fx += bnd.out[b, o]
+                fy += bnd.out[b, o + 1]
+                fz += bnd.out[b, o + 2]
+                tx += bnd.out[b, o + 3]
+                ty += bnd.out[b, o + 4]
+                tz += bnd.out[b, o + 5]
         # wall panels: the same law, wall mass and radius infinite
         for k in range(wps.start[i], wps.start[i + 1]):
             p = wps.panel[k]
@@ -423,9 +469,15 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
             vrz = v[i, 2] + a * (w[i, 0] * ny - w[i, 1] * nx) - pvz
             im = inv_m[i]
             m_eff = 1.0 / im if (im > 0.0 and need_m) else 0.0
-            cfx, cfy, cfz, fn, ux, uy, uz = contact_law(prm, pan.mu[p], delta, nx, ny, nz, vrx, vry, vrz,
-                                                        m_eff, ri, w_ut[k, 0], w_ut[k, 1],
-                                                        w_ut[k, 2], dt)
+            if mtab is None:
+                cfx, cfy, cfz, fn, ux, uy, uz = contact_law(prm, pan.mu[p], delta, nx, ny, nz, vrx, vry, vrz,
+                                                            m_eff, ri, w_ut[k, 0], w_ut[k, 1],
+                                                            w_ut[k, 2], dt)
+            else:
+                pp = pair_params(mtab, sph.mat[i], pan.mat[p])
+                cfx, cfy, cfz, fn, ux, uy, uz = contact_law(pp, pp.mu, delta, nx, ny, nz, vrx, vry, vrz,
+                                                            m_eff, ri, w_ut[k, 0], w_ut[k, 1],
+                                                            w_ut[k, 2], dt)
             w_ut[k, 0] = ux
             w_ut[k, 1] = uy
             w_ut[k, 2] = uz
@@ -442,6 +494,10 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
             w_out[k, 4] = cy
             w_out[k, 5] = cz
             w_act[k] = 1
+        if has_fext:
+            fx += sph.f_ext[i, 0]
+            fy += sph.f_ext[i, 1]
+            fz += sph.f_ext[i, 2]
         f[i, 0] = fx
         f[i, 1] = fy
         f[i, 2] = fz
@@ -482,6 +538,172 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
         n_bad += n_bad_i
         n_fast += n_fast_i
     return n_moved, n_bad, n_fast
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _keep_in_plane(ax, ay, az, nx, ny, nz, spin):
+    """The vector a carried into the plane normal to the new unit normal n, as a rigid
+    rotation would: rotated by the angle ``spin`` about n (the pair's mean spin about the
+    bond axis times dt), then its component along n removed and the magnitude restored
+    (PFC/P&C 2004 update of the shear force and bending moment)."""
+    a2 = ax * ax + ay * ay + az * az
+    if a2 == 0.0:
+        return ax, ay, az
+    if spin != 0.0:
+        cx = ny * az - nz * ay
+        cy = nz * ax - nx * az
+        cz = nx * ay - ny * ax
+        ax += spin * cx
+        ay += spin * cy
+        az += spin * cz
+    an = ax * nx + ay * ny + az * nz
+    ax -= an * nx
+    ay -= an * ny
+    az -= an * nz
+    p2 = ax * ax + ay * ay + az * az
+    if p2 > 0.0 and p2 != a2:
+        s = math.sqrt(a2 / p2)
+        ax *= s
+        ay *= s
+        az *= s
+    return ax, ay, az
+
+
+@njit(parallel=True, cache=True, fastmath=FASTMATH)
+def bond_forces(sph, bnd, dt, pax, plen):
+    """Parallel-bond forces and moments (Potyondy & Cundall 2004, eqs. 8-12), one bond per
+    iteration, each writing only its own row (bnd.out), so the result does not depend on
+    the thread count; pass 2 gathers them per sphere.
+
+    Bond of radius R = bnd.rb, area A = pi R^2, I = pi R^4 / 4, J = pi R^4 / 2, at the
+    contact point (distances a_i = r_i - h, a_j = r_j - h from the centres along
+    n = unit(x_j - x_i), h = (r_i + r_j - d) / 2; a gap gives h < 0). Over the last step
+    (leapfrog: the displacement increment is exactly v(t - dt/2) dt):
+        dF_n = kn A  v_n dt            (compression +, v_n closing)
+        dF_s = -ks A v_s dt            (on i; v_s the tangential relative velocity of the
+                                        contact point of i with respect to j)
+        dM_t = -ks J (w_i - w_j).n dt  (twist on i, about n)
+        dM_b = -kn I (w_i - w_j)_s dt  (bending on i)
+    The stored shear force and bending moment are first carried with the pair's rigid
+    rotation (``_keep_in_plane``). Force on i: -F_n n + F_s; torque on i:
+    a_i n x F + M_t n + M_b; on j the opposites, torque a_j n x F - M_t n - M_b.
+    Breakage (eq. 12): tensile stress -F_n / A + |M_b| R / I >= sigma_c, or shear stress
+    |F_s| / A + |M_t| R / J >= tau_c: the bond is removed (state 0, no force from then on).
+    A bond in state 2 (just made) takes no increment at its first evaluation.
+    Returns the number of bonds broken in this call.
+    """
+    x = sph.x
+    v = sph.v
+    w = sph.w
+    r = sph.r
+    st = bnd.state
+    fn_ = bnd.fn
+    fs_ = bnd.fs
+    mt_ = bnd.mt
+    mb_ = bnd.mb
+    out = bnd.out
+    broken = 0
+    for b in prange(bnd.i.shape[0]):
+        s = st[b]
+        if s == 0:
+            continue
+        i = bnd.i[b]
+        j = bnd.j[b]
+        dx, dy, dz = separation(x, i, j, pax, plen)
+        d = math.sqrt(dx * dx + dy * dy + dz * dz)
+        nx = dx / d
+        ny = dy / d
+        nz = dz / d
+        h = 0.5 * (r[i] + r[j] - d)
+        ai = r[i] - h
+        aj = r[j] - h
+        rb = bnd.rb[b]
+        area = math.pi * rb * rb
+        inertia = 0.25 * math.pi * rb ** 4
+        polar = 2.0 * inertia
+        kn = bnd.kn[b]
+        ks = bnd.ks[b]
+        fn = fn_[b]
+        fsx = fs_[b, 0]
+        fsy = fs_[b, 1]
+        fsz = fs_[b, 2]
+        mt = mt_[b]
+        mbx = mb_[b, 0]
+        mby = mb_[b, 1]
+        mbz = mb_[b, 2]
+        if s == 1:
+            wrx = w[i, 0] - w[j, 0]
+            wry = w[i, 1] - w[j, 1]
+            wrz = w[i, 2] - w[j, 2]
+            spin = 0.5 * ((w[i, 0] + w[j, 0]) * nx + (w[i, 1] + w[j, 1]) * ny + (w[i, 2] + w[j, 2]) * nz) * dt
+            fsx, fsy, fsz = _keep_in_plane(fsx, fsy, fsz, nx, ny, nz, spin)
+            mbx, mby, mbz = _keep_in_plane(mbx, mby, mbz, nx, ny, nz, spin)
+            ox = ai * w[i, 0] + aj * w[j, 0]
+            oy = ai * w[i, 1] + aj * w[j, 1]
+            oz = ai * w[i, 2] + aj * w[j, 2]
+            vrx = v[i, 0] - v[j, 0] + (oy * nz - oz * ny)
+            vry = v[i, 1] - v[j, 1] + (oz * nx - ox * nz)
+            vrz = v[i, 2] - v[j, 2] + (ox * ny - oy * nx)
+            vn = vrx * nx + vry * ny + vrz * nz
+            fn += kn * area * vn * dt
+            c = -ks * area * dt
+            fsx += c * (vrx - vn * nx)
+            fsy += c * (vry - vn * ny)
+            fsz += c * (vrz - vn * nz)
+            wn = wrx * nx + wry * ny + wrz * nz
+            mt -= ks * polar * wn * dt
+            c = -kn * inertia * dt
+            mbx += c * (wrx - wn * nx)
+            mby += c * (wry - wn * ny)
+            mbz += c * (wrz - wn * nz)
+        else:
+            st[b] = 1
+        sigma = -fn / area + math.sqrt(mbx * mbx + mby * mby + mbz * mbz) * rb / inertia
+        tau = math.sqrt(fsx * fsx + fsy * fsy + fsz * fsz) / area + abs(mt) * rb / polar
+        if sigma >= bnd.sigma_c[b] or tau >= bnd.tau_c[b]:
+            st[b] = 0
+            broken += 1
+            fn = 0.0
+            fsx = fsy = fsz = 0.0
+            mt = 0.0
+            mbx = mby = mbz = 0.0
+        fn_[b] = fn
+        fs_[b, 0] = fsx
+        fs_[b, 1] = fsy
+        fs_[b, 2] = fsz
+        mt_[b] = mt
+        mb_[b, 0] = mbx
+        mb_[b, 1] = mby
+        mb_[b, 2] = mbz
+        fx = -fn * nx + fsx
+        fy = -fn * ny + fsy
+        fz = -fn * nz + fsz
+        cx = ny * fz - nz * fy
+        cy = nz * fx - nx * fz
+        cz = nx * fy - ny * fx
+        out[b, 0] = fx
+        out[b, 1] = fy
+        out[b, 2] = fz
+        out[b, 3] = ai * cx + mt * nx + mbx
+        out[b, 4] = ai * cy + mt * ny + mby
+        out[b, 5] = ai * cz + mt * nz + mbz
+        out[b, 6] = -fx
+        out[b, 7] = -fy
+        out[b, 8] = -fz
+        out[b, 9] = aj * cx - mt * nx - mbx
+        out[b, 10] = aj * cy - mt * ny - mby
+        out[b, 11] = aj * cz - mt * nz - mbz
+    return broken
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def bonded(bnd, i, j):
+    """True if spheres i and j share an intact bond (scans i's few bonds)."""
+    for kk in range(bnd.start[i], bnd.start[i + 1]):
+        b = bnd.entry[kk] >> 1
+        if bnd.state[b] != 0 and (bnd.i[b] == j or bnd.j[b] == j):
+            return True
+    return False
 
 
 @njit(cache=True, fastmath=FASTMATH)
@@ -751,7 +973,7 @@ _FORWARD = np.array([(dx, dy, dz) for dz in (-1, 0, 1) for dy in (-1, 0, 1) for 
 
 @njit(parallel=True, cache=True)
 def scan_pairs(x, r, clump, cell, cell_start, order, xr, clump_sorted, nc, pax, plen, skin, forward,
-               rows, counts):
+               rows, counts, bnd):
     """Half Verlet list into fixed-capacity rows: pairs with |x_j - x_i| < r_i + r_j + skin,
     two spheres of one clump excluded. Sphere i lists j from its own cell with j > i and
     all j from the 13 forward neighbour cells, so every pair appears once (needs >= 3
@@ -759,7 +981,8 @@ def scan_pairs(x, r, clump, cell, cell_start, order, xr, clump_sorted, nc, pax, 
     spheres in cell order (order[k] is the sphere at position k), so candidates are read
     contiguously. rows: (n, cap) output; counts: (n,) output, which may exceed cap: then
     the rows overflowed and the caller must grow cap and scan again. Cells are visited in
-    a fixed order, so row contents are deterministic."""
+    a fixed order, so row contents are deterministic. ``bnd`` (None or Bonds): pairs with
+    an intact bond are left out (the bond replaces the contact law until it breaks)."""
     n = x.shape[0]
     cap = rows.shape[1]
     for i in prange(n):
@@ -807,6 +1030,9 @@ def scan_pairs(x, r, clump, cell, cell_start, order, xr, clump_sorted, nc, pax, 
                     j = order[kk]
                     if o == 0 and j <= i:
                         continue
+                    if bnd is not None:
+                        if bonded(bnd, i, j):
+                            continue
                     if cnt < cap:
                         rows[i, cnt] = j
                     cnt += 1
@@ -994,7 +1220,7 @@ def body_cell_order(x_body, lo, inv_h, nc):
 # --------------------------------------------------------------------------------------
 
 @njit(cache=True)
-def contact_energy(sph, prs, wps, pan, prm, pax, plen):
+def contact_energy(sph, prs, wps, pan, prm, pax, plen, mtab):
     """Elastic normal energy stored in all contacts (pairs and walls) at the current
     positions [J]. Tangential springs are not included (zero when mu = 0)."""
     e = 0.0
@@ -1007,13 +1233,15 @@ def contact_energy(sph, prs, wps, pan, prm, pax, plen):
             d = math.sqrt(dx * dx + dy * dy + dz * dz)
             delta = r[i] + r[j] - d
             if delta > 0.0:
-                e += elastic_energy(prm, delta, r[i] * r[j] / (r[i] + r[j]))
+                pp = prm if mtab is None else pair_params(mtab, sph.mat[i], sph.mat[j])
+                e += elastic_energy(pp, delta, r[i] * r[j] / (r[i] + r[j]))
         for k in range(wps.start[i], wps.start[i + 1]):
             ok, qx, qy, qz = panel_closest_point(x[i, 0], x[i, 1], x[i, 2], pan, wps.panel[k])
             if ok:
                 d = math.sqrt((qx - x[i, 0]) ** 2 + (qy - x[i, 1]) ** 2 + (qz - x[i, 2]) ** 2)
                 if d < r[i]:
-                    e += elastic_energy(prm, r[i] - d, r[i])
+                    pp = prm if mtab is None else pair_params(mtab, sph.mat[i], pan.mat[wps.panel[k]])
+                    e += elastic_energy(pp, r[i] - d, r[i])
     return e
 
 
@@ -1089,6 +1317,30 @@ def move_walls(pan, wall_of_panel, moving, pivot, axis, om_mid, v_mid, om_end, v
 
 
 @njit(cache=True, fastmath=FASTMATH)
+def move_attached(sph, att_sphere, att_wall, v_mid, dt, ref_limit2):
+    """Spheres attached to a wall (immovable spheres carried by it, e.g. the rough layer
+    of a shaken base) translate with the wall's pivot over the step: x += V(t + dt/2) dt,
+    and carry v = V(t + dt/2) (the half-step velocity the contacts read, as a sphere's
+    leapfrog velocity). Wall rotation is not applied to them. Returns how many moved
+    farther than sqrt(ref_limit2) since the last list build."""
+    x = sph.x
+    v = sph.v
+    moved = 0
+    for k in range(att_sphere.shape[0]):
+        i = att_sphere[k]
+        w = att_wall[k]
+        dd = 0.0
+        for d in range(3):
+            v[i, d] = v_mid[w, d]
+            x[i, d] += v_mid[w, d] * dt
+            e = x[i, d] - sph.x_ref[i, d]
+            dd += e * e
+        if dd > ref_limit2:
+            moved += 1
+    return moved
+
+
+@njit(cache=True, fastmath=FASTMATH)
 def wall_displacement(pan, ref_centre, ref_e1, ref_e2):
     """Bound on the displacement of any panel point since the reference pose [m]
     (|dq| <= |dc| + a |de1| + b |de2|)."""
@@ -1115,15 +1367,21 @@ def wall_displacement(pan, ref_centre, ref_e1, ref_e2):
 def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed_limit2,
             wall_of_panel, moving, pivot, axis, ref_centre, ref_e1, ref_e2,
             om_mid, v_mid, om_end, v_end, panel_force, panel_moment, hist_force, hist_moment,
-            n_steps, time):
+            n_steps, time, mtab, has_fext, bnd, att):
     """Run up to ``n_steps`` steps (module docstring, passes 1-4, then the walls move).
 
     om_mid, v_mid, om_end, v_end: (n_steps, n_walls[, 3]) wall motion samples at each
     step's mid and end time (only rows of moving walls are read).
     hist_force, hist_moment: (n_steps, p, 3) per-step panel loads, or 0 rows to skip.
+    mtab, has_fext, bnd: material table or None, external forces on/off, Bonds or None
+    (pair_forces, gather_and_move, bond_forces); bonds are evaluated first in each step.
+    att: (spheres, walls) int64 arrays of spheres carried by moving walls, empty for none
+    (``move_attached``, after the spheres move, before the walls do; one check per step,
+    so it is not a separate specialisation).
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
-    that moved a sphere or a panel more than skin/2 since the last list build, or with
-    STATUS_NONFINITE / STATUS_TOO_FAST (count = offending spheres).
+    that moved a sphere or a panel more than skin/2 since the last list build, or broke a
+    bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
+    STATUS_TOO_FAST (count = offending spheres).
     """
     ref_limit2 = (0.5 * skin) ** 2
     has_clumps = clu.x.shape[0] > 0
@@ -1134,14 +1392,19 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
         if moving[k]:
             any_moving = True
     for s in range(n_steps):
-        pair_forces(sph, prs, prm, dt, pax, plen)
+        broken = 0
+        if bnd is not None:
+            broken = bond_forces(sph, bnd, dt, pax, plen)
+        pair_forces(sph, prs, prm, dt, pax, plen, mtab)
         moved, bad, fast = gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz,
-                                           ref_limit2, speed_limit2, True)
+                                           ref_limit2, speed_limit2, True, mtab, has_fext, bnd)
         if has_clumps:
             m2, b2, f2 = move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2)
             moved += m2
             bad += b2
             fast += f2
+        if any_moving and att[0].shape[0] > 0:
+            moved += move_attached(sph, att[0], att[1], v_mid[s], dt, ref_limit2)
         if n_pan > 0:
             panel_loads(wps, pan, panel_force, panel_moment)
             if record:
@@ -1154,7 +1417,7 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
             return s + 1, time, STATUS_NONFINITE, bad
         if fast > 0:
             return s + 1, time, STATUS_TOO_FAST, fast
-        if moved > 0:
+        if moved > 0 or broken > 0:
             return s + 1, time, STATUS_REBUILD, moved
         if any_moving and wall_displacement(pan, ref_centre, ref_e1, ref_e2) > 0.5 * skin:
             return s + 1, time, STATUS_REBUILD, 0

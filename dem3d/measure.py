@@ -8,6 +8,7 @@ panel is -F . n / A.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -212,3 +213,274 @@ def force_chains(frame, threshold="mean") -> tuple[np.ndarray, np.ndarray, np.nd
     limit = float(np.mean(f)) if isinstance(threshold, str) and threshold == "mean" else float(threshold)
     keep = f > limit
     return frame.contact_a[keep], frame.contact_b[keep], f[keep]
+
+
+# --------------------------------------------------------------------------------------
+# slice averages (free-field columns), bonded-structure forces, strain, settlement
+# --------------------------------------------------------------------------------------
+
+def contact_branches(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every force acting at a contact point on a sphere, from the last evaluation:
+    (sphere (m,) engine index, branch (m, 3) from the sphere's centre to the contact
+    point [m], force on the sphere (m, 3) [N]); sphere pairs give two rows (one per
+    sphere), panel contacts and intact parallel bonds likewise (bonds at their contact
+    point, with their force; their moments are not contact forces and are left out)."""
+    rows_s, rows_b, rows_f = [], [], []
+    sph = sim.spheres
+    prs = sim.pairs
+    total = int(prs.start[-1])
+    k = np.nonzero(prs.active[:total])[0]
+    if len(k):
+        i = np.searchsorted(prs.start, k, side="right") - 1
+        j = prs.nbr[k]
+        d = _min_image(sim, sph.x[j] - sph.x[i])
+        dist = np.sqrt((d * d).sum(axis=1))
+        n = d / dist[:, None]
+        h = 0.5 * (sph.r[i] + sph.r[j] - dist)
+        f_j = prs.pf[prs.tpos[k], 0:3]
+        rows_s += [i, j]
+        rows_b += [(sph.r[i] - h)[:, None] * n, -(sph.r[j] - h)[:, None] * n]
+        rows_f += [-f_j, f_j]
+    wps = sim.wall_pairs
+    wk = np.nonzero(wps.active[:int(wps.start[-1])])[0]
+    if len(wk):
+        i = np.searchsorted(wps.start, wk, side="right") - 1
+        rows_s.append(i)
+        rows_b.append(wps.out[wk, 3:6] - sph.x[i])
+        rows_f.append(wps.out[wk, 0:3].copy())
+    bnd = sim.bonds
+    if bnd is not None and np.any(bnd.state == 1):
+        b = np.nonzero(bnd.state == 1)[0]
+        i, j = bnd.i[b], bnd.j[b]
+        d = _min_image(sim, sph.x[j] - sph.x[i])
+        dist = np.sqrt((d * d).sum(axis=1))
+        n = d / dist[:, None]
+        h = 0.5 * (sph.r[i] + sph.r[j] - dist)
+        rows_s += [i, j]
+        rows_b += [(sph.r[i] - h)[:, None] * n, -(sph.r[j] - h)[:, None] * n]
+        rows_f += [bnd.out[b, 0:3].copy(), bnd.out[b, 6:9].copy()]
+    if not rows_s:
+        return np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, 3))
+    return np.concatenate(rows_s), np.concatenate(rows_b), np.concatenate(rows_f)
+
+
+def _min_image(sim: Simulation, d: np.ndarray) -> np.ndarray:
+    if sim.periodic is not None:
+        ax, length = sim.periodic.axis, sim.periodic.length
+        d = d.copy()
+        d[:, ax] -= length * np.round(d[:, ax] / length)
+    return d
+
+
+class SliceAverages(NamedTuple):
+    """Averages over slices between ``edges`` along one axis.
+
+    centre:   (ns,) slice mid-coordinates [m]
+    velocity: (ns, 3) mass-weighted mean sphere velocity [m/s] (leapfrog half step)
+    stress:   (ns, 3, 3) Love-Weber mean stress sigma_ab = <l_a f_b>, tension positive [Pa]
+    mass:     (ns,) sphere mass in the slice [kg] (by centre)
+    """
+
+    centre: np.ndarray
+    velocity: np.ndarray
+    stress: np.ndarray
+    mass: np.ndarray
+
+
+def slice_averages(sim: Simulation, edges, area: float, axis: int = 2) -> SliceAverages:
+    """Mean velocity and stress of the spheres whose centres lie in each slice
+    [edges[k], edges[k+1]) along ``axis``, the slice volume being ``area`` [m^2] x its
+    thickness. Stress (Love 1927; Weber 1966; Christoffersen et al. 1981), static part:
+        sigma_ab = (1 / V) sum_{p in V} sum_{c of p} l_a f_b,
+    l the branch from p's centre to the contact point, f the force on p there (contacts,
+    panels, bonds), tension positive; in equilibrium a column's sigma_zz at depth is minus
+    the weight above per area. Not symmetrised: grains that rotate freely balance their
+    moments and make it symmetric in equilibrium; with rotations locked (or bond
+    moments, not included here) it need not be, and the traction on a plane of normal n
+    is then t_b = n_a sigma_ab (what dem3d.freefield uses)."""
+    edges = np.asarray(edges, float)
+    sph = sim.spheres
+    ns = len(edges) - 1
+    s = np.searchsorted(edges, sph.x[:, axis], side="right") - 1
+    inside = (s >= 0) & (s < ns)
+    m = 1.0 / np.where(sph.inv_m > 0, sph.inv_m, np.inf)
+    m = np.where(sph.inv_m > 0, m, sim.sphere_masses())          # locked spheres: their own ball
+    mass = np.bincount(s[inside], weights=m[inside], minlength=ns)
+    vel = np.stack([np.bincount(s[inside], weights=(m * sph.v[:, d])[inside], minlength=ns) for d in range(3)],
+                   axis=1) / np.where(mass > 0, mass, 1.0)[:, None]
+    who, branch, force = contact_branches(sim)
+    stress = np.zeros((ns, 3, 3))
+    if len(who):
+        ss = s[who]
+        ok = (ss >= 0) & (ss < ns)
+        outer = branch[ok, :, None] * force[ok, None, :]
+        np.add.at(stress, ss[ok], outer)
+    volume = float(area) * np.diff(edges)
+    stress /= volume[:, None, None]
+    return SliceAverages(0.5 * (edges[1:] + edges[:-1]), vel, stress, mass)
+
+
+class SectionForces(NamedTuple):
+    """Internal forces of a bonded structure at cuts normal to one axis.
+
+    cut:     (nc,) cut coordinates [m]
+    point:   (nc, 3) reference point of each cut (mean contact point of the cut bonds) [m]
+    force:   (nc, 3) force exerted by the part below the cut ON the part above [N]
+    moment:  (nc, 3) moment of it about ``point`` [N m]
+    n_bonds: (nc,) intact bonds crossing the cut
+    """
+
+    cut: np.ndarray
+    point: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+    n_bonds: np.ndarray
+
+
+def section_forces(sim: Simulation, cuts, *, axis: int = 2, spheres=None) -> SectionForces:
+    """Axial force, shear force and bending moment along a bonded structure (e.g. a sheet
+    pile along z) from its bond forces and moments (last evaluation): at each cut
+    coordinate c, the bonds with one sphere below c and the other above (along ``axis``)
+    act on the upper part with force F = sum F_up and moment about the cut's point P
+    M = sum ((x_up - P) x F_up + T_up), T_up the bond's torque on the upper sphere about
+    its centre (bond moment plus the lever of its force). In static equilibrium these are
+    minus the resultant and moment of the external loads on the part above (the beam's
+    section forces). Contacts are not included (they are loads on the structure).
+    ``spheres``: specimen indices of the structure (default: every bonded sphere).
+    Axial force = force[:, axis]; shear and moment components as the caller's axes."""
+    cuts = np.asarray(cuts, float).reshape(-1)
+    nc = len(cuts)
+    point = np.zeros((nc, 3))
+    force = np.zeros((nc, 3))
+    moment = np.zeros((nc, 3))
+    count = np.zeros(nc, np.int64)
+    bnd = sim.bonds
+    if bnd is None:
+        return SectionForces(cuts, point, force, moment, count)
+    x = sim.spheres.x
+    keep = bnd.state == 1
+    if spheres is not None:
+        mine = np.zeros(sim.n_spheres, bool)
+        engine = np.empty(sim.n_spheres, np.int64)
+        engine[sim.original_index] = np.arange(sim.n_spheres)
+        mine[engine[np.asarray(spheres, np.int64)]] = True
+        keep &= mine[bnd.i] & mine[bnd.j]
+    b = np.nonzero(keep)[0]
+    i, j = bnd.i[b], bnd.j[b]
+    d = _min_image(sim, x[j] - x[i])
+    dist = np.sqrt((d * d).sum(axis=1))
+    n = d / dist[:, None]
+    h = 0.5 * (sim.spheres.r[i] + sim.spheres.r[j] - dist)
+    contact = x[i] + (sim.spheres.r[i] - h)[:, None] * n
+    xi_ax = x[i, axis]
+    xj_ax = xi_ax + d[:, axis]
+    for k, c in enumerate(cuts):
+        i_up = (xi_ax >= c) & (xj_ax < c)
+        j_up = (xj_ax >= c) & (xi_ax < c)
+        sel = i_up | j_up
+        count[k] = int(sel.sum())
+        if not count[k]:
+            continue
+        ref = contact[sel][0]
+        rel = _min_image(sim, contact[sel] - ref)
+        p = ref + rel.mean(axis=0)
+        point[k] = p
+        f_up = np.where(i_up[sel, None], bnd.out[b[sel], 0:3], bnd.out[b[sel], 6:9])
+        t_up = np.where(i_up[sel, None], bnd.out[b[sel], 3:6], bnd.out[b[sel], 9:12])
+        x_up = np.where(i_up[sel, None], x[i[sel]], x[i[sel]] + d[sel])
+        arm = _min_image(sim, x_up - p)
+        force[k] = f_up.sum(axis=0)
+        moment[k] = (np.cross(arm, f_up) + t_up).sum(axis=0)
+    return SectionForces(cuts, point, force, moment, count)
+
+
+class StrainField(NamedTuple):
+    """Best-fit local deformation between two frames, per cell.
+
+    centre:   (nc, 3) cell centres [m]
+    count:    (nc,) spheres (by reference position) in the cell
+    grad:     (nc, 3, 3) displacement gradient du_a / dX_b [-] (nan where count < min_count)
+    strain:   (nc, 3, 3) small-strain tensor, the symmetric part of grad [-]
+    """
+
+    centre: np.ndarray
+    count: np.ndarray
+    grad: np.ndarray
+    strain: np.ndarray
+
+
+def strain_field(x_ref, x_cur, edges, *, min_count: int = 4, period: tuple | None = None) -> StrainField:
+    """Local displacement gradient in grid cells (``edges``: three arrays of cell edges
+    along x, y, z [m]) from sphere positions in a reference and a current frame (same
+    sphere order, e.g. two Frames' ``positions``): in each cell the least-squares affine
+    fit u = u0 + G (X - X_c) over the spheres whose reference centre lies in it (Cundall
+    et al. 1982 / Bagi 2006's best-fit method), G = du/dX. ``period`` = (axis, length)
+    unwraps displacements across a periodic boundary."""
+    x0 = np.asarray(x_ref, float)
+    x1 = np.asarray(x_cur, float)
+    u = x1 - x0
+    if period is not None:
+        ax, length = period
+        u[:, ax] -= length * np.round(u[:, ax] / length)
+    edges = [np.asarray(e, float) for e in edges]
+    shape = tuple(len(e) - 1 for e in edges)
+    idx = [np.searchsorted(e, x0[:, d], side="right") - 1 for d, e in enumerate(edges)]
+    inside = np.all([(k >= 0) & (k < s) for k, s in zip(idx, shape)], axis=0)
+    lin = np.ravel_multi_index([k[inside] for k in idx], shape)
+    pts = np.nonzero(inside)[0]
+    nc = int(np.prod(shape))
+    grad = np.full((nc, 3, 3), np.nan)
+    count = np.bincount(lin, minlength=nc)
+    order = np.argsort(lin, kind="stable")
+    start = np.concatenate([[0], np.cumsum(count)])
+    for c in np.nonzero(count >= min_count)[0]:
+        members = pts[order[start[c]:start[c + 1]]]
+        X = x0[members] - x0[members].mean(axis=0)
+        A = np.hstack([np.ones((len(members), 1)), X])
+        coef, _, rank, _ = np.linalg.lstsq(A, u[members], rcond=None)
+        if rank == 4:
+            grad[c] = coef[1:].T
+    centres = np.stack(np.meshgrid(*[0.5 * (e[1:] + e[:-1]) for e in edges], indexing="ij"), axis=-1).reshape(-1, 3)
+    strain = 0.5 * (grad + np.transpose(grad, (0, 2, 1)))
+    return StrainField(centres, count, grad, strain)
+
+
+def max_shear_strain(strain: np.ndarray, plane: tuple | None = None) -> np.ndarray:
+    """Maximum engineering shear strain [-]: eps_max - eps_min of the principal strains
+    (3D), or in the plane of axes (a, b): sqrt((e_aa - e_bb)^2 + (2 e_ab)^2) (Mohr's
+    circle diameter; for simple shear gamma it is gamma). nan for nan cells."""
+    eps = np.asarray(strain, float)
+    if plane is not None:
+        a, b = plane
+        return np.sqrt((eps[..., a, a] - eps[..., b, b]) ** 2 + (2.0 * eps[..., a, b]) ** 2)
+    out = np.full(eps.shape[:-2], np.nan)
+    ok = np.all(np.isfinite(eps), axis=(-2, -1))
+    w = np.linalg.eigvalsh(eps[ok])
+    out[ok] = w[..., -1] - w[..., 0]
+    return out
+
+
+def settlement_profile(x_ref, x_cur, radii, edges, *, axis: int = 0, up: int = 2,
+                       depth: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Ground-surface settlement along ``axis`` [m], positive downwards: in each bin
+    [edges[k], edges[k+1]) the surface grains are those whose reference top (z + r) lies
+    within ``depth`` (default 2 mean diameters) of the bin's highest top; the settlement
+    is minus their mean vertical displacement. Returns (bin centres, settlement); nan
+    for empty bins. Tracking grains (not the surface height) keeps a grain rolling off
+    the crest from showing as settlement."""
+    x0 = np.asarray(x_ref, float)
+    x1 = np.asarray(x_cur, float)
+    r = np.asarray(radii, float)
+    edges = np.asarray(edges, float)
+    depth = 4.0 * float(r.mean()) if depth is None else float(depth)
+    nb = len(edges) - 1
+    k = np.searchsorted(edges, x0[:, axis], side="right") - 1
+    top = x0[:, up] + r
+    out = np.full(nb, np.nan)
+    for b in range(nb):
+        sel = k == b
+        if not np.any(sel):
+            continue
+        surface = sel & (top >= top[sel].max() - depth)
+        out[b] = -float(np.mean(x1[surface, up] - x0[surface, up]))
+    return 0.5 * (edges[1:] + edges[:-1]), out

@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import numpy as np
+
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
@@ -174,3 +176,75 @@ def check_time_step(dt: float, dt_critical: float, *, allow_unsafe: bool = False
                                f"{safety:g} x critical step {dt_critical:.4g} s from the lightest "
                                "sphere and stiffest spring; allow_unsafe=True overrides")
     return dt
+
+
+# --------------------------------------------------------------------------------------
+# materials: contact parameters per pair of materials
+# --------------------------------------------------------------------------------------
+
+#: number of float slots per pair in a material table (the ContactParams fields, in order)
+N_PARAM_FIELDS = len(ContactParams._fields)
+
+
+def mix(a: ContactParams, b: ContactParams) -> ContactParams:
+    """Contact parameters between a grain of material ``a`` and one of material ``b``,
+    where each material is described by the ContactParams of a contact between two of
+    its own grains.
+
+    Mixing rule (stated, and exact for Hertz-Mindlin):
+    * stiffnesses combine as springs in series of the two half-contacts, i.e. the
+      harmonic mean: k_ab = 2 k_a k_b / (k_a + k_b) for kn, ks (linear) and for E*, G*
+      (Hertz). For Hertz this is Johnson's (1985) 1/E* = (1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b
+      and 1/G* = (2 - nu_a)/G_a + (2 - nu_b)/G_b, since E*_a = E_a / (2 (1 - nu_a^2)) and
+      G*_a = G_a / (2 (2 - nu_a)) (``hertz_mindlin``); a material paired with itself gives
+      itself back.
+    * friction: the smaller coefficient, mu_ab = min(mu_a, mu_b) (the weaker surface
+      governs sliding);
+    * damping ratios / coefficients: the arithmetic mean.
+    Law, damping mode, Coulomb cap and local damping must be the same for both (they are
+    properties of the model, not of a surface). Pass explicit pair parameters to
+    ``material_table`` to override the rule (LIGGGHTS ``peratomtypepair``).
+    """
+    for name in ("law", "damping", "coulomb", "local_damping"):
+        if getattr(a, name) != getattr(b, name):
+            raise InvalidParameter(f"materials' {name}", (getattr(a, name), getattr(b, name)), "equal")
+
+    def series(p, q):
+        return 2.0 * p * q / (p + q) if p + q > 0.0 else 0.0
+
+    return ContactParams(a.law, series(a.kn, b.kn), series(a.ks, b.ks), series(a.e_star, b.e_star),
+                         series(a.g_star, b.g_star), a.damping, 0.5 * (a.damp_n + b.damp_n),
+                         0.5 * (a.damp_s + b.damp_s), min(a.mu, b.mu), a.local_damping, a.coulomb)
+
+
+def material_table(materials, pairs=None):
+    """(nm, nm, N_PARAM_FIELDS) float table of ContactParams per pair of materials
+    (row [a, b] = the fields of ``mix(materials[a], materials[b])`` in ContactParams order,
+    law/damping/coulomb stored as floats), symmetric; ``pairs`` maps (a, b) to explicit
+    ContactParams overriding the rule for that pair (both orders).
+
+    The kernels look the pair's row up by the two material ids (int32 per sphere and per
+    panel) and rebuild a ContactParams from it, so a two-material contact follows exactly
+    the single-material code with the pair's numbers.
+    """
+    mats = list(materials)
+    if not mats:
+        raise InvalidParameter("materials", 0, ">= 1 material")
+    nm = len(mats)
+    table = np.zeros((nm, nm, N_PARAM_FIELDS))
+    for a in range(nm):
+        for b in range(nm):
+            table[a, b] = tuple(float(v) for v in mix(mats[a], mats[b]))
+    for (a, b), prm in (pairs or {}).items():
+        if not (0 <= a < nm and 0 <= b < nm):
+            raise InvalidParameter("pairs", (a, b), f"material ids in [0, {nm})")
+        mix(mats[a], prm)           # checks the model-wide fields agree
+        table[a, b] = table[b, a] = tuple(float(v) for v in prm)
+    return table
+
+
+def pair_params(table, a: int, b: int) -> ContactParams:
+    """The ContactParams of the pair (a, b) in a ``material_table``."""
+    row = table[a, b]
+    return ContactParams(int(row[0]), *(float(v) for v in row[1:5]), int(row[5]),
+                         *(float(v) for v in row[6:10]), int(row[10]))

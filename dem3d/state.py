@@ -36,6 +36,9 @@ class Spheres(NamedTuple):
     f:      (n, 3) contact force on the sphere from the last force evaluation [N]
     t:      (n, 3) contact torque about the sphere centre from the last evaluation [N m]
     x_ref:  (n, 3) positions when the neighbour list was last built [m]
+    mat:    (n,)   int32 material id (row of the material table; unused with one material)
+    f_ext:  (n, 3) external force the caller sets between steps [N] (added to the contact
+                   force of free spheres and clump members when ``Simulation.f_ext`` is on)
     """
 
     x: np.ndarray
@@ -49,6 +52,8 @@ class Spheres(NamedTuple):
     f: np.ndarray
     t: np.ndarray
     x_ref: np.ndarray
+    mat: np.ndarray
+    f_ext: np.ndarray
 
 
 class Clumps(NamedTuple):
@@ -135,6 +140,7 @@ class Panels(NamedTuple):
     vel:    (p, 3)  velocity of the panel centre [m/s]
     omega:  (p, 3)  angular velocity [rad/s]; a point q of the panel moves at
                     vel + omega x (q - centre)
+    mat:    (p,)    int32 material id of the panel's wall (used with a material table)
     """
 
     centre: np.ndarray
@@ -146,6 +152,45 @@ class Panels(NamedTuple):
     shared: np.ndarray
     vel: np.ndarray
     omega: np.ndarray
+    mat: np.ndarray
+
+
+class Bonds(NamedTuple):
+    """Parallel bonds (Potyondy & Cundall 2004, PFC "pbond"), nb bonds, with an index by
+    sphere. A bond is a short elastic cylinder of radius rb glued between spheres i and j
+    at their contact point; it carries a force and a moment, updated incrementally.
+
+    i, j:     (nb,)     the bonded spheres (engine order)
+    kn, ks:   (nb,)     normal / shear stiffness per unit area [N/m^3]
+    rb:       (nb,)     bond radius [m] (lambda min(r_i, r_j))
+    sigma_c:  (nb,)     tensile strength [Pa] (inf: unbreakable)
+    tau_c:    (nb,)     shear strength [Pa] (inf: unbreakable)
+    state:    (nb,)     uint8: 0 broken, 1 intact, 2 made at this state (no increment yet)
+    fn:       (nb,)     normal force, compression + [N]
+    fs:       (nb, 3)   shear force on i [N]
+    mt:       (nb,)     twisting moment on i about n (n from i to j) [N m]
+    mb:       (nb, 3)   bending moment on i [N m]
+    out:      (nb, 12)  from the last evaluation: force on i (3) [N], torque on i about its
+                        centre (3) [N m], force on j (3), torque on j (3)
+    start:    (n+1,)    bonds of sphere s: entries start[s] .. start[s+1]-1 of ``entry``
+    entry:    (2 nb,)   2 b + side (side 0: s is bond b's i, 1: its j), increasing b
+    """
+
+    i: np.ndarray
+    j: np.ndarray
+    kn: np.ndarray
+    ks: np.ndarray
+    rb: np.ndarray
+    sigma_c: np.ndarray
+    tau_c: np.ndarray
+    state: np.ndarray
+    fn: np.ndarray
+    fs: np.ndarray
+    mt: np.ndarray
+    mb: np.ndarray
+    out: np.ndarray
+    start: np.ndarray
+    entry: np.ndarray
 
 
 class Specimen(NamedTuple):

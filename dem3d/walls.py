@@ -22,7 +22,13 @@ a wall's pivot P moves with velocity V(t); the wall turns about the axis a throu
 angular speed omega(t) (right-handed). A point q of the wall moves at
 V + omega a x (q - P). Over a step the pose is advanced with the mid-step values
 (rotation about P by omega(t + dt/2) dt, then translation by V(t + dt/2) dt), which is
-exact for schedules linear in time.
+exact for schedules linear in time. A translation may instead be given by its
+displacement history D(t) (``history``, ``shaking``): the pivot then advances by
+D(t + dt) - D(t) over each step, so the wall sits at P + D(t) at every step to round-off
+(any V(t), e.g. a sinusoid, is reproduced exactly, not to the midpoint rule's O(dt^2)),
+and the velocity the contacts see is the step's mean velocity (D(t + dt) - D(t)) / dt,
+consistent with the spheres' half-step (leapfrog) velocities: with V(t + dt) instead,
+a shaken base would load its contacts' tangential springs by a spurious V dt / 2.
 """
 
 from __future__ import annotations
@@ -176,16 +182,20 @@ class Motion:
     axis:           unit rotation axis
     angular_speed:  omega(t) [rad/s], right-handed about ``axis``
     velocity:       V(t) [m/s] (3,)
+    displacement:   None, or D(t) [m] (3,) with D' = V: the translation then follows D
+                    exactly (module docstring)
     """
 
     pivot: tuple = (0.0, 0.0, 0.0)
     axis: tuple = (0.0, 0.0, 1.0)
     angular_speed: Callable[[float], float] = _zero_speed
     velocity: Callable[[float], Vector] = _zero_velocity
+    displacement: Callable[[float], Vector] | None = None
 
     @property
     def is_fixed(self) -> bool:
-        return self.angular_speed is _zero_speed and self.velocity is _zero_velocity
+        return (self.angular_speed is _zero_speed and self.velocity is _zero_velocity
+                and self.displacement is None)
 
 
 FIXED = Motion()
@@ -207,6 +217,121 @@ def rotation(pivot: Vector, axis: Vector, angular_speed: float | Callable[[float
     vel = _zero_velocity if velocity is None else (
         velocity if callable(velocity) else _Constant(tuple(float(c) for c in velocity)))
     return Motion(tuple(map(float, pivot)), tuple(_unit("axis", axis)), speed, vel)
+
+
+def history(displacement: Callable[[float], Vector], velocity: Callable[[float], Vector]) -> Motion:
+    """Translation following a displacement history D(t) [m] exactly; ``velocity`` is
+    V(t) = D'(t) [m/s] (kept for callers; the contacts see the step's mean velocity, see
+    the module docstring); e.g. base shaking."""
+    return Motion(velocity=velocity, displacement=displacement)
+
+
+def shaking(table: "AccelerationTable") -> Motion:
+    """A wall driven by an acceleration history (base shaking): translation by the
+    table's exact double integral D(t), velocity V(t)."""
+    return history(table.displacement, table.velocity)
+
+
+class AccelerationTable:
+    """A translation driven by an acceleration history a(t) [m/s^2] (3,), piecewise
+    linear through samples (t_k, a_k), zero before t_0 and after the last sample; starting
+    at rest at t_0. Velocity and displacement are the exact integrals of that piecewise-
+    linear a (on [t_k, t_k+1], tau = t - t_k, s = (a_k+1 - a_k) / h):
+        v = v_k + a_k tau + s tau^2 / 2,   d = d_k + v_k tau + a_k tau^2 / 2 + s tau^3 / 6,
+    so a wall moved by ``shaking(table)`` reproduces them exactly (to round-off).
+
+    times: (m,) increasing [s]; accel: (m,) along ``direction`` or (m, 3) [m/s^2].
+    """
+
+    def __init__(self, times, accel, direction: Vector = (1.0, 0.0, 0.0)):
+        t = np.asarray(times, float).reshape(-1)
+        a = np.asarray(accel, float)
+        if a.ndim == 1:
+            a = a[:, None] * _unit("direction", direction)[None, :]
+        if t.shape[0] < 2 or a.shape != (t.shape[0], 3) or not np.all(np.diff(t) > 0):
+            raise InvalidParameter("times", t.shape[0], ">= 2 increasing samples with one acceleration each")
+        h = np.diff(t)[:, None]
+        slope = np.diff(a, axis=0) / h
+        v = np.zeros_like(a)
+        d = np.zeros_like(a)
+        v[1:] = np.cumsum(a[:-1] * h + 0.5 * slope * h ** 2, axis=0)
+        for k in range(len(h)):
+            d[k + 1] = d[k] + v[k] * h[k] + 0.5 * a[k] * h[k] ** 2 + slope[k] * h[k] ** 3 / 6.0
+        self.times, self.accel, self.slope, self.v, self.d = t, a, slope, v, d
+
+    @classmethod
+    def sampled(cls, accel: Callable[[float], float], t_end: float, samples: int,
+                direction: Vector = (1.0, 0.0, 0.0)) -> "AccelerationTable":
+        """A table of a(t) [m/s^2] (a function of time, scalar along ``direction`` or
+        a 3-vector) sampled at ``samples`` equal steps on [0, t_end] [s]: the motion is
+        then that piecewise-linear interpolant, integrated exactly."""
+        t = np.linspace(0.0, float(t_end), int(samples) + 1)
+        a = np.array([accel(float(tk)) for tk in t], float)
+        return cls(t, a, direction)
+
+    def _segment(self, t: float):
+        k = int(np.searchsorted(self.times, t, side="right")) - 1
+        return min(k, len(self.times) - 1)
+
+    def acceleration(self, t: float) -> tuple:
+        if t < self.times[0] or t >= self.times[-1]:
+            return (0.0, 0.0, 0.0)
+        k = self._segment(t)
+        return tuple(self.accel[k] + self.slope[k] * (t - self.times[k]))
+
+    def velocity(self, t: float) -> tuple:
+        if t <= self.times[0]:
+            return (0.0, 0.0, 0.0)
+        k = self._segment(t)
+        tau = t - self.times[k]
+        if k == len(self.times) - 1:
+            return tuple(self.v[k])
+        return tuple(self.v[k] + self.accel[k] * tau + 0.5 * self.slope[k] * tau ** 2)
+
+    def displacement(self, t: float) -> tuple:
+        if t <= self.times[0]:
+            return (0.0, 0.0, 0.0)
+        k = self._segment(t)
+        tau = t - self.times[k]
+        if k == len(self.times) - 1:
+            return tuple(self.d[k] + self.v[k] * tau)
+        return tuple(self.d[k] + self.v[k] * tau + 0.5 * self.accel[k] * tau ** 2
+                     + self.slope[k] * tau ** 3 / 6.0)
+
+
+def sine_envelope(t, t_up: float, t_hold: float, t_down: float):
+    """Trapezoidal envelope [-]: 0 -> 1 linearly over t_up, 1 for t_hold, 1 -> 0 over
+    t_down, 0 after (the seismic study's 3 s ramp, 4 s hold, 1 s decay, prototype)."""
+    t = np.asarray(t, float)
+    up = np.clip(t / t_up, 0.0, 1.0) if t_up > 0 else (t >= 0).astype(float)
+    t2 = t_up + t_hold
+    down = np.clip(1.0 - (t - t2) / t_down, 0.0, 1.0) if t_down > 0 else (t < t2).astype(float)
+    return np.where(t < 0, 0.0, np.minimum(up, down))
+
+
+def sine_ramp(amplitude: float, frequency: float, t_up: float, t_hold: float, t_down: float, *,
+              direction: Vector = (1.0, 0.0, 0.0), samples_per_period: int = 400,
+              zero_final_velocity: bool = True) -> AccelerationTable:
+    """Base acceleration a(t) = amplitude env(t) sin(2 pi f t) [m/s^2] (``sine_envelope``),
+    sampled ``samples_per_period`` times per period into an AccelerationTable that ends
+    with the envelope. With ``zero_final_velocity`` a constant acceleration -V_end / T
+    over the motion's duration T is added (baseline correction) so the base ends at rest
+    rather than drifting; it is of order amplitude / (2 pi f T) and is stated by
+    ``table.accel`` itself."""
+    amplitude = float(amplitude)
+    frequency = float(frequency)
+    if not (frequency > 0 and samples_per_period >= 8):
+        raise InvalidParameter("frequency", frequency, "> 0 Hz with >= 8 samples per period")
+    duration = t_up + t_hold + t_down
+    m = int(math.ceil(duration * frequency * samples_per_period)) + 1
+    t = np.linspace(0.0, duration, m)
+    a = amplitude * sine_envelope(t, t_up, t_hold, t_down) * np.sin(2.0 * math.pi * frequency * t)
+    table = AccelerationTable(t, a, direction)
+    if zero_final_velocity:
+        e = _unit("direction", direction)
+        v_end = float(np.dot(table.v[-1], e))
+        table = AccelerationTable(t, a - v_end / duration, direction)
+    return table
 
 
 @dataclass(frozen=True)
@@ -266,6 +391,7 @@ class WallSet:
             shared=np.array([p.shared for p in panels], np.uint8).reshape(n, 4),
             vel=np.zeros((n, 3)),
             omega=np.zeros((n, 3)),
+            mat=np.zeros(n, np.int32),
         )
         self.nominal_half = np.array([p.nominal_half for p in panels], float).reshape(n, 2)
         self.pivot = np.array([w.motion.pivot for w in self.walls], float).reshape(len(self.walls), 3)
@@ -309,12 +435,20 @@ class WallSet:
         t = t0
         for s in range(n_steps):
             tm = t + 0.5 * dt
+            t_prev = t
             t = t + dt
             for k, m in movers:
                 om_mid[s, k] = m.angular_speed(tm)
-                v_mid[s, k] = m.velocity(tm)
+                if m.displacement is None:
+                    v_mid[s, k] = m.velocity(tm)
+                else:        # the step's mean velocity: the pivot advances by D(t) - D(t - dt)
+                    v_mid[s, k] = (np.asarray(m.displacement(t), float)
+                                   - np.asarray(m.displacement(t_prev), float)) / dt
                 om_end[s, k] = m.angular_speed(t)
-                v_end[s, k] = m.velocity(t)
+                # a history wall shows the contacts its mean velocity over the step just
+                # taken, the same half-step velocity the spheres' leapfrog carries, so a
+                # contact's tangential increment is exactly the wall's displacement
+                v_end[s, k] = m.velocity(t) if m.displacement is None else v_mid[s, k]
         return om_mid, v_mid, om_end, v_end
 
     @property
