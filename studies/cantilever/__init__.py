@@ -78,8 +78,8 @@ CALIBRATE = Command(
                 "Euler-Bernoulli. Defaults: Sizkow & El Shamy's wall at model scale (E 40 GPa, t 5 mm, L 13.5 cm; "
                 "about 30 s).",
     default_case=CantileverCase, run=_calibrate, text=_text,
-    options=(Option("--youngs", "Young's modulus [GPa] (40)", key="youngs",
-                    parse=number("youngs", 0, None, unit="GPa"), to_case=lambda gpa: gpa * 1e9),
+    options=(Option("--E", "Young's modulus [Pa] (4e10)", key="youngs",
+                    parse=number("E", 0, None, unit="Pa")),
              Option("--thickness", "wall thickness [m] (0.005)", key="thickness", parse=number("thickness", 0, None)),
              Option("--length", "cantilever length [m] (0.135)", key="length", parse=number("length", 0, None))))
 
