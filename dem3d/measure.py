@@ -74,10 +74,6 @@ def unbalanced_force_ratio(sim: Simulation) -> float:
     return mean_unbal / float(np.mean(allf))
 
 
-def coordination_number(sim: Simulation) -> float:
-    """Mean number of sphere-sphere contacts per sphere (2 x touching pairs / n)."""
-    prs = sim.pairs
-    return 2.0 * float(np.count_nonzero(prs.active[:int(prs.start[-1])])) / sim.n_spheres
 
 
 # ---------------------------------------------------------------- porosity
@@ -174,21 +170,8 @@ def panel_normal_stress(frame) -> np.ndarray:
     return -np.einsum("ij,ij->i", frame.panel_force, frame.panel_normal) / frame.panel_area
 
 
-def panel_shear_force(frame) -> np.ndarray:
-    """(p, 3) in-plane part of each panel force [N]."""
-    fn = np.einsum("ij,ij->i", frame.panel_force, frame.panel_normal)
-    return frame.panel_force - fn[:, None] * frame.panel_normal
 
 
-def wall_resultant(frame, panel_ids, point) -> tuple[np.ndarray, np.ndarray]:
-    """Total force [N] (3,) and moment about ``point`` [N m] (3,) on the given panels:
-    M_Q = sum_p (M_p + (c_p - Q) x F_p), c_p the panel centre."""
-    ids = np.asarray(panel_ids, np.int64)
-    q = np.asarray(point, float)
-    centres = frame.panel_corners[ids].mean(axis=1)
-    force = frame.panel_force[ids].sum(axis=0)
-    moment = (frame.panel_moment[ids] + np.cross(centres - q, frame.panel_force[ids])).sum(axis=0)
-    return force, moment
 
 
 def stress_ratio(frame, lateral_ids, base_ids) -> float:
