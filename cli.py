@@ -325,6 +325,8 @@ def _add_option(p, opt) -> None:
             kw["choices"] = list(opt.choices)
         if opt.metavar:
             kw["metavar"] = opt.metavar
+        if opt.optional:
+            kw |= {"nargs": "?", "const": True}
     kw["default"] = argparse.SUPPRESS if opt.key is not None else opt.default
     p.add_argument(opt.flag, **kw)
 

@@ -86,8 +86,8 @@ def output_folder(name: str):
 
 #: the recording flags of the 3D runs
 RECORDING = (
-    Option("--rrd", "recording path (default: recording.rrd in the run folder)", metavar="FILE",
-           parse=output_file("rrd", (".rrd",))),
+    Option("--rrd", "recording path (default: recording.rrd in the run folder; written unless --no-rrd)",
+           metavar="FILE", parse=output_file("rrd", (".rrd",)), optional=True),
     Option("--no-rrd", "write no recording", switch=True),
     Option("--spawn", "also open the Rerun viewer", switch=True),
     Option("--every", "log the scene (particles, chains) every N x 500 steps (5)", parse=count("every"), default=5),

@@ -36,6 +36,8 @@ class Option:
               to the case)
     choices:  the allowed words, if any
     switch:   a flag without a value (store_true)
+    optional: the value may be left out (``--rrd`` or ``--rrd FILE``: given alone the
+              option holds ``True``)
     """
 
     flag: str
@@ -46,6 +48,7 @@ class Option:
     default: Any = None
     choices: tuple[str, ...] | None = None
     switch: bool = False
+    optional: bool = False
     metavar: str | None = None
 
     @property

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import number, output_folder
+from ..options import number, output_file, output_folder
 from ..study import Command, Option, Study
 
 
@@ -89,7 +89,9 @@ COMPARE = Command(
                 "Example: wallsim compare khosravi --H 0.3 --particles-scale 2 --rrd",
     default_case=_default_case, run=_compare, text=_compare_text,
     options=(_H, _SCALE,
-             Option("--rrd", "write recording.rrd (disks, walls, force chains)", switch=True),
+             Option("--rrd", "write a recording (disks, walls, force chains): recording.rrd in the run folder, "
+                             "or FILE (off by default)", metavar="FILE", parse=output_file("rrd", (".rrd",)),
+                    optional=True),
              Option("--no-cache", "do not reuse or keep the settled specimen", switch=True)))
 
 VALIDATE = Command(

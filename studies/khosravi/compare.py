@@ -84,7 +84,7 @@ def theories(phi_deg: float, gamma: float, H: float) -> dict:
             "paik-salgado": paik_salgado(soil, wall), "khosravi": khosravi(soil, wall)}
 
 
-def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool = False,
+def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool | str | Path = False,
                      quiet: bool = False, frames: int = 40, specimen_cache: bool = True,
                      name: str | None = None, card: Path | tuple[Path, ...] = DEFAULT_CARDS,
                      checkpoint_layers: int = 3) -> tuple[dict, RunFolder]:
@@ -94,11 +94,12 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     Checkpoints: every ``checkpoint_layers`` layers the partly filled box is written to
     ``<key>.partial.pkl`` (an interrupted pluviation resumes from it), and the settled
     specimen to ``<key>.pkl`` (later runs with the same key skip the pluviation).
+    ``rrd``: True for recording.rrd in the run folder, a path for elsewhere, False for none.
     Returns (result dict, run folder)."""
     clock, c_start = Stopwatch(), time.process_time()
     rf = open_run_folder("khosravi", case, root, name=name)
     specimens, key = Store(Path(root) / "khosravi" / "_specimens"), specimen_key(case)
-    recorder = _recording(rf, case) if rrd else None
+    recorder = _recording(rf.file("recording.rrd") if rrd is True else Path(rrd), case) if rrd else None
     with progress(quiet) as bar:
         with clock("pluviation_s"):
             run, reused = settled_box(case, specimens if specimen_cache else None, key, bar, checkpoint_layers)
@@ -172,9 +173,9 @@ def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwa
             _log(recorder, run, r, z, r.dis / bf.H, gH)
 
 
-def _recording(rf: RunFolder, case: KhosraviCase):
+def _recording(path: Path, case: KhosraviCase):
     from viz.recorder import khosravi_blueprint
-    recorder = open_recording(rf.file("recording.rrd"), study="khosravi", dim=2,
+    recorder = open_recording(path, study="khosravi", dim=2,
                               recording_id=f"khosravi-{case.seed}", blueprint=khosravi_blueprint())
     recorder.log_case(_case_text(case))
     return recorder

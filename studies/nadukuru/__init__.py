@@ -39,7 +39,8 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from .compare import compare_nadukuru
 
     with progress(opts.quiet) as bar:
-        result, folder = compare_nadukuru(case, wall_kind(case), root=Path(opts.out), rrd=opts.rrd,
+        result, folder = compare_nadukuru(case, wall_kind(case), root=Path(opts.out),
+                                          rrd=opts.rrd if isinstance(opts.rrd, str) else None,
                                           spawn=opts.spawn, every=opts.every, record=not opts.no_rrd,
                                           progress=bar, resume=Path(opts.resume) if opts.resume else None)
     note = scale_note(case, result)
