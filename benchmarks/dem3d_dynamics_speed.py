@@ -1,5 +1,5 @@
-"""Speed of dem3d before/after the dynamics features (issue 22), on the benchmark problem
-of workflows/bench.py (30,000 settled spheres, one material, no bonds, 2 threads), plus a
+"""Speed of dem3d before/after the dynamics features (materials, bonds, external forces,
+shaken walls, free-field boundaries), on the benchmark problem of studies/bench.py (30,000 settled spheres, one material, no bonds, 2 threads), plus a
 bonded, two-material case of the same size.
 
 Usage (from the repository root; ``--main`` is a checkout of the code to compare with,
@@ -9,7 +9,7 @@ e.g. ``git archive <commit> | tar -x -C /tmp/wallsim_main``):
 
 Each (code, case) runs in its own process (so each has its own numba cache and module
 state), alternating main / this tree round after round on the same load; the warm-up
-(compile or cache load, first neighbour list) is excluded as in workflows/bench.py.
+(compile or cache load, first neighbour list) is excluded as in studies/bench.py.
 Prints one JSON line per run and a summary (median ns per particle-step).
 """
 
@@ -29,7 +29,10 @@ CHILD = r"""
 import json, sys, time
 import numba
 import numpy as np
-from workflows import bench
+try:
+    from studies import bench
+except ImportError:                      # a checkout from before the study layer
+    from workflows import bench
 case, steps, threads = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 numba.set_num_threads(threads)
 warm = bench.build_problem(10_000)

@@ -33,7 +33,7 @@ spheres attached to walls), run (Frame, run), prep (generation, settling), measu
 structures, strain fields, settlement), cantilever (bond calibration of a bonded strip
 and its Euler-Bernoulli check), freefield (absorbing free-field lateral boundaries).
 
-Dynamics (issue 22), e.g. a bonded sheet and a shaken base::
+Dynamics (materials, bonds, shaking, free field), e.g. a bonded sheet and a shaken base::
 
     from dem3d import sine_ramp, shaking
     from dem3d.cantilever import calibrate_strip
