@@ -14,42 +14,12 @@ import numpy as np
 import pymunk
 import pymunk.batch as pb
 
+from analytic.frame import Frame
+
 from .build import Grains
 
 
-class Frame(NamedTuple):
-    """One snapshot of a 2D run (SI units; forces per metre of wall).
-
-    step:          step number
-    time:          simulated time [s]
-    positions:     (c,2) circle centres [m] (one row per circle; a clump has several)
-    radii:         (c,) circle radii [m]
-    velocities:    (c,2) velocity of the owning body [m/s]
-    body_id:       (c,) creation index of the owning body
-    contact_a/b:   (m,2) centres of the two bodies of each grain-grain contact [m]
-    contact_force: (m,) normal force of the contact over the last step [N/m]
-    panel_corners: (p,2,2) panel endpoints [m]
-    panel_normal:  (p,2) unit normal from the wall into the backfill
-    panel_force:   (p,2) force by the grains on each panel [N/m], time-averaged over
-                   the probe's window
-    panel_area:    (p,) panel length [m] (area per metre of wall)
-    block_outlines: optional list of (k,2) polygons (polygon grains/blocks)
-    """
-
-    step: int
-    time: float
-    positions: np.ndarray
-    radii: np.ndarray
-    velocities: np.ndarray
-    body_id: np.ndarray
-    contact_a: np.ndarray
-    contact_b: np.ndarray
-    contact_force: np.ndarray
-    panel_corners: np.ndarray
-    panel_normal: np.ndarray
-    panel_force: np.ndarray
-    panel_area: np.ndarray
-    block_outlines: list | None = None
+# the snapshot record both engines return: analytic/frame.py
 
 
 class BodyState(NamedTuple):

@@ -6,55 +6,13 @@ decides what to log (``viz/`` reads Frames duck-typed). Nothing here writes or p
 
 from __future__ import annotations
 
-from typing import Iterator, NamedTuple
+from typing import Iterator
 
 import numpy as np
 
+from analytic.frame import Frame
+
 from .engine import Simulation
-
-
-class Frame(NamedTuple):
-    """A snapshot (copies, SI units) after ``step`` steps.
-
-    step:           steps taken since the simulation was built
-    time:           simulated time [s]
-    positions:      (n, 3) sphere centres [m] (periodic coordinates may lie up to a skin
-                    outside the periodic cell between neighbour-list builds)
-    radii:          (n,) [m]
-    velocities:     (n, 3) centre velocities [m/s] at time - dt/2 (leapfrog half step)
-    body_id:        (n,) body of each sphere: the sphere's own index for a free sphere, the
-                    index of the clump's first sphere for a clump member (sphere arrays are
-                    in the specimen's order)
-    contact_a:      (m, 3) centre of the first sphere of each touching sphere pair [m]
-    contact_b:      (m, 3) centre of the second, periodic-unwrapped (b - a is the short
-                    separation vector) [m]
-    contact_force:  (m,) normal contact force [N], compression positive (the viscous part
-                    may make it slightly negative while a contact opens)
-    panel_corners:  (p, 4, 3) panel corners [m] (nominal extent for unbounded panels)
-    panel_normal:   (p, 3) unit normals pointing from the wall into the particles
-    panel_force:    (p, 3) force exerted BY the particles ON each panel [N]; pressing
-                    particles give panel_force . panel_normal < 0
-    panel_moment:   (p, 3) moment of that force about the panel's centre (the mean of its
-                    corners) [N m]
-    panel_area:     (p,) [m^2] (nominal for unbounded panels)
-
-    Contact and panel forces are those of the last force evaluation, i.e. at time - dt.
-    """
-
-    step: int
-    time: float
-    positions: np.ndarray
-    radii: np.ndarray
-    velocities: np.ndarray
-    body_id: np.ndarray
-    contact_a: np.ndarray
-    contact_b: np.ndarray
-    contact_force: np.ndarray
-    panel_corners: np.ndarray
-    panel_normal: np.ndarray
-    panel_force: np.ndarray
-    panel_moment: np.ndarray
-    panel_area: np.ndarray
 
 
 def contacts(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

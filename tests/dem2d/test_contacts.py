@@ -143,7 +143,8 @@ def test_frame_has_the_contract_fields_for_disks_clumps_and_blocks():
     fr = make_frame(sp, g, 300, 0.03, 1e-4, [floor])
     assert Frame._fields == ("step", "time", "positions", "radii", "velocities", "body_id", "contact_a",
                              "contact_b", "contact_force", "panel_corners", "panel_normal", "panel_force",
-                             "panel_area", "block_outlines")
+                             "panel_area", "block_outlines", "panel_moment")
+    assert fr.panel_moment is None          # one record for both engines; 2D panels carry no moment
     assert fr.positions.shape == (4, 2) and fr.radii.shape == (4,)   # 2 disks + a clump of 2 circles
     assert list(fr.body_id) == [0, 1, 2, 2]
     assert fr.panel_corners.shape == (4, 2, 2) and fr.panel_normal.shape == (4, 2)

@@ -1,0 +1,52 @@
+"""``Frame``: the one snapshot record both engines return (dem2d.make_frame,
+dem3d.frame) and the recorder and figures read. It sits here, beside ``Profile``, because
+it is a plain record that every layer may import; nothing in it computes.
+
+SI units. In 2D (d = 2) forces are per metre of wall and a panel's "area" is its length;
+in 3D (d = 3) panels are quadrilaterals."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Frame(NamedTuple):
+    """One snapshot of a run.
+
+    step:           steps taken
+    time:           simulated time [s]
+    positions:      (n, d) circle / sphere centres [m] (a clump has one row per member)
+    radii:          (n,) [m]
+    velocities:     (n, d) velocity of the owning body [m/s] (3D: at time - dt/2)
+    body_id:        (n,) the owning body of each row (2D: creation index; 3D: the first
+                    member's index for a clump member, the sphere's own otherwise)
+    contact_a/b:    (m, d) centres of the two bodies of each grain-grain contact [m]
+                    (3D: b periodic-unwrapped, so b - a is the short separation)
+    contact_force:  (m,) normal force of each contact, compression positive [N; N/m in 2D]
+    panel_corners:  (p, 2, 2) panel endpoints in 2D, (p, 4, 3) corners in 3D [m]
+    panel_normal:   (p, d) unit normals from the wall into the grains
+    panel_force:    (p, d) force BY the grains ON each panel [N; N/m in 2D]; pressing
+                    grains give panel_force . panel_normal < 0
+    panel_area:     (p,) [m^2; m in 2D]
+    block_outlines: 2D only: list of (k, 2) polygons of polygon grains/blocks, or None
+    panel_moment:   3D only: (p, 3) moment of panel_force about the panel centre [N m],
+                    or None
+    """
+
+    step: int
+    time: float
+    positions: np.ndarray
+    radii: np.ndarray
+    velocities: np.ndarray
+    body_id: np.ndarray
+    contact_a: np.ndarray
+    contact_b: np.ndarray
+    contact_force: np.ndarray
+    panel_corners: np.ndarray
+    panel_normal: np.ndarray
+    panel_force: np.ndarray
+    panel_area: np.ndarray
+    block_outlines: list | None = None
+    panel_moment: np.ndarray | None = None
