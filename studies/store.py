@@ -88,3 +88,18 @@ class Store:
     def save_json(self, key: str, obj) -> Path:
         from .runfolder import to_plain
         return atomic_write(self.path(key, ".json"), (json.dumps(to_plain(obj), indent=2) + "\n").encode())
+
+
+def find_card_entry(paths, match) -> tuple[dict, Path] | None:
+    """The first entry of the calibration cards at ``paths`` (searched in order; missing
+    files skipped) for which ``match(entry)`` holds, and the card it came from. An
+    entry is one of a card's "tests", or the card itself when it has none (a triaxial
+    card is one test). The one look-up of phi behind every study's theories."""
+    for path in map(Path, [paths] if isinstance(paths, (str, Path)) else paths):
+        if not path.is_file():
+            continue
+        card = json.loads(path.read_text())
+        for entry in card.get("tests", [card]):
+            if match(entry):
+                return entry, path
+    return None

@@ -23,6 +23,7 @@ from dem2d.biaxial import BiaxialCase, BiaxialTest
 from dem2d.params import Solver
 from studies.progress import progress
 from studies.runfolder import RunFolder, to_plain
+from studies.store import find_card_entry
 
 #: the card committed with the validation report
 DEFAULT_CARD = Path(__file__).resolve().parent / "cards" / "biaxial.json"
@@ -179,14 +180,11 @@ def phi_for_friction(friction: float, cards: str | Path | Sequence[str | Path] =
     The grain scale matters: phi of free disks in a 70 mm wide specimen depends on how
     many grains span it (docs/dem2d.md); so do the solver's sweeps per step (an
     unconverged impulse solver makes the assembly soft; docs/dem2d.md)."""
-    paths = [cards] if isinstance(cards, (str, Path)) else list(cards)
-    for p in map(Path, paths):
-        if not p.exists():
-            continue
-        for t in json.loads(p.read_text()).get("tests", []):
-            if (abs(t["friction"] - friction) < 1e-6 and abs(t["confining"] - confining) < 1e-6
-                    and abs(t.get("particles_scale", 1.0) - particles_scale) < 1e-6
-                    and (solver is None or (t.get("iterations") == solver.iterations
-                                            and abs(t.get("dt", 0.0) - solver.dt) < 1e-12))):
-                return {**t, "card": str(p)}
-    return None
+    def same_test(t: dict) -> bool:
+        return (abs(t["friction"] - friction) < 1e-6 and abs(t["confining"] - confining) < 1e-6
+                and abs(t.get("particles_scale", 1.0) - particles_scale) < 1e-6
+                and (solver is None or (t.get("iterations") == solver.iterations
+                                        and abs(t.get("dt", 0.0) - solver.dt) < 1e-12)))
+
+    found = find_card_entry(cards, same_test)
+    return None if found is None else {**found[0], "card": str(found[1])}

@@ -7,7 +7,6 @@ fig5_segments.png, recording.rrd) and returns the result dict that ``--json`` pr
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..measures import dem_profile
+from ..store import find_card_entry
 from ..runner import Stopwatch, finish, open_recording, open_run_folder
 from .model import G, MODE_TITLES, NadukuruCase, load_or_prepare, paper_values, run_modes, theory_rows
 
@@ -23,10 +23,9 @@ def phi_card(root: Path, case: NadukuruCase) -> tuple[float, str]:
     """phi for the theories: the triaxial calibration card of this recipe if one exists
     (``wallsim calibrate triaxial``), else the paper's 39 deg."""
     from ..triaxial.lab import card_path
-    p = card_path(root, case.specimen, case.seed)
-    if p.exists():
-        card = json.loads(p.read_text())
-        return float(card["phi_peak_deg"]), f"triaxial, {p.name}"
+    found = find_card_entry(card_path(root, case.specimen, case.seed), lambda card: "phi_peak_deg" in card)
+    if found is not None:
+        return float(found[0]["phi_peak_deg"]), f"triaxial, {found[1].name}"
     return 39.0, "paper's triaxial value; run `wallsim calibrate triaxial` for this recipe's own"
 
 
