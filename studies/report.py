@@ -201,3 +201,15 @@ def checks_markdown(checks: list[dict], title: str = "Validation targets") -> li
     """A Markdown section: one row per check with its measured figure and verdict."""
     rows = [f"| {c['item']} | {c['measured']} | {verdict(c['ok'])} |" for c in checks]
     return [f"## {title}", "", "| item | measured | holds |", "|---|---|---|", *rows]
+
+
+# ----------------------------------------------------------------------------- theory rows
+def theory_row(name: str, profile, note: str = "", *, height_over_H: float | None = None) -> dict:
+    """One theory beside the DEM, in both studies' results: the *normal* load
+    coefficient on the wall (Kh of a vertical wall, comparable with the DEM's normal
+    force) and the resultant's height over H; ``profile`` None gives an empty row."""
+    if profile is None:
+        return {"name": name, "K": None, "resultant_height_over_H": None, "note": note}
+    return {"name": name, "K": profile.Kh,
+            "resultant_height_over_H": profile.height_over_H if height_over_H is None else height_over_H,
+            "note": note}

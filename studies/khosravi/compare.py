@@ -32,6 +32,7 @@ from studies.khosravi.case import KhosraviCase
 from dem2d.sim import restore
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
+from studies.report import theory_row
 from studies.runfolder import RunFolder, package_versions, to_plain
 from studies.runner import Stopwatch, finish, open_recording, open_run_folder
 from studies.store import Store, content_key
@@ -238,6 +239,7 @@ def summarize(run: KhosraviRun, rest, phi: float, phi_info: dict, th: dict, reus
                 **_wall_figures(run, rest, act, phi), **_balance(rest, bf)},
         "readings": {"depth_over_H": (d / H).tolist(), "at_rest_over_gammaH": (m_rest / (g * H)).tolist(),
                      "active_over_gammaH": (m_act / (g * H)).tolist()},
+        "theory": [theory_row(k, p, f"phi {phi:.2f} deg (biaxial), delta = phi") for k, p in th.items()],
         "theory_thrust_over_dem_active": {k: p.normal_force() / F_act for k, p in th.items() if k != "jaky"},
         "profile": {"at_rest": _profile(run, rest).as_dict(), "active": _profile(run, act).as_dict()},
     }

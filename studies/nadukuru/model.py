@@ -38,6 +38,7 @@ from dem3d import measure
 
 from ..config import with_current_names
 from ..measures import steady_displacement
+from ..report import theory_row
 from ..store import Store, atomic_write, content_key, load_npz, npz_bytes
 
 G = 9.81
@@ -724,19 +725,16 @@ def theory_rows(mode: str, phi_deg: float, wall_friction: float, gamma: float, H
 
     delta = math.degrees(math.atan(wall_friction))
     soil, w = Soil(phi_deg, gamma), Wall(H, delta)
-    rows = []
-    for name, prof in (("coulomb", coulomb(soil, w)), ("rankine", rankine(soil, Wall(H))),
-                       ("jaky (at rest)", jaky(soil, Wall(H)))):
-        rows.append({"name": name, "K": prof.Kh, "resultant_height_over_H": prof.height_over_H,
-                     "note": f"phi {phi_deg:.1f}, delta {delta:.1f} deg"})
+    note = f"phi {phi_deg:.1f}, delta {delta:.1f} deg"
+    rows = [theory_row(name, prof, note) for name, prof in
+            (("coulomb", coulomb(soil, w)), ("rankine", rankine(soil, Wall(H))), ("jaky (at rest)", jaky(soil, Wall(H))))]
     if mode in ("T", "RB", "RT"):
         res = solve(mode_case(mode, phi_deg=phi_deg, delta_deg=delta, H=H, gamma=gamma))
-        rows.append({"name": "dsm", "K": res.profile.Kh, "resultant_height_over_H": res.resultant_height_over_H,
-                     "note": f"k_l, phi* shapes of eqs. 13/18/19 at phi {phi_deg:.1f}, delta {delta:.1f}"
-                             + ("; curved surface: wallsim reconstruction" if mode == "RT" else "")})
+        rows.append(theory_row("dsm", res.profile, f"k_l, phi* shapes of eqs. 13/18/19 at phi {phi_deg:.1f}, "
+                               f"delta {delta:.1f}" + ("; curved surface: wallsim reconstruction" if mode == "RT" else ""),
+                               height_over_H=res.resultant_height_over_H))
     else:
-        rows.append({"name": "dsm", "K": None, "resultant_height_over_H": None,
-                     "note": "no DSM preset for the mixed mode"})
+        rows.append(theory_row("dsm", None, "no DSM preset for the mixed mode"))
     return rows
 
 
