@@ -50,3 +50,10 @@ class Frame(NamedTuple):
     panel_area: np.ndarray
     block_outlines: list | None = None
     panel_moment: np.ndarray | None = None
+
+
+def panel_normal_stress(frame) -> np.ndarray:
+    """(p,) normal stress of the grains on each panel [Pa], compression positive: the
+    grains push a panel along -normal, so sigma = -(F . n) / A (2D: F per metre over the
+    panel length). The one definition for the recorder, the engines and the studies."""
+    return -np.einsum("pd,pd->p", frame.panel_force, frame.panel_normal) / frame.panel_area

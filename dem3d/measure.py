@@ -11,6 +11,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+
+from analytic.frame import panel_normal_stress  # noqa: F401 - re-exported, the one definition
 from numba import njit
 
 from analytic.errors import InvalidParameter
@@ -165,9 +167,6 @@ def _grid_union_count(x, r, lo, step, counts, glo, cell, nc):
 
 # ---------------------------------------------------------------- walls
 
-def panel_normal_stress(frame) -> np.ndarray:
-    """(p,) compressive normal stress on each panel [Pa]: -panel_force . panel_normal / area."""
-    return -np.einsum("ij,ij->i", frame.panel_force, frame.panel_normal) / frame.panel_area
 
 
 

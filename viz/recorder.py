@@ -27,6 +27,8 @@ import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
+from analytic.frame import panel_normal_stress  # noqa: F401 - re-exported, the one definition
+
 from . import paths as P
 
 _RGB_WALL_LOW = np.array([60, 90, 200], dtype=float)
@@ -43,10 +45,6 @@ def _viridis(values: np.ndarray, vmax: float) -> np.ndarray:
     return (stops[i] * (1 - f) + stops[i + 1] * f).astype(np.uint8)
 
 
-def panel_normal_stress(frame) -> np.ndarray:
-    """Normal stress on each panel [Pa], compression positive: the particles push the
-    panel along -normal, so sigma = -(F . n) / A."""
-    return -np.einsum("pd,pd->p", frame.panel_force, frame.panel_normal) / frame.panel_area
 
 
 def default_blueprint(dim: int, *, scene_name: str = "particles and force chains",
