@@ -11,11 +11,10 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-
-from analytic.frame import panel_normal_stress  # noqa: F401 - re-exported, the one definition
 from numba import njit
 
 from analytic.errors import InvalidParameter
+from analytic.frame import panel_normal_stress  # noqa: F401 - re-exported, the one definition
 
 from .engine import Simulation
 
