@@ -352,8 +352,9 @@ def _add_study_command(sub, study, cmd) -> None:
     for old, new in RENAMED_FLAGS.items():
         if any(o.flag == new for o in cmd.options):
             p.add_argument(old, action=_Renamed, nargs="?", help=argparse.SUPPRESS)
-    p.add_argument("--seed", type=_argparse_type(_count_value("seed"), "seed"), default=argparse.SUPPRESS,
-                   help=f"random seed ({cmd.seed_default})")
+    if cmd.seed_key is not None:
+        p.add_argument("--seed", type=_argparse_type(_count_value("seed"), "seed"), default=argparse.SUPPRESS,
+                       help=f"random seed ({cmd.seed_default})")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
                    help="override any case field (after --config and the flags), e.g. --set seed=2")
     p.add_argument("--config", metavar="FILE.toml", help="case settings from a TOML file (before the flags)")

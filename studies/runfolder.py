@@ -121,12 +121,13 @@ def _new_folder(parent: Path, stem: str) -> Path:
 class RunFolder:
     """A run's output folder. Created on construction; every writer returns the path."""
 
-    def __init__(self, case: str, seed: int, root: str | Path = "runs", name: str | None = None):
+    def __init__(self, case: str, seed: int | None, root: str | Path = "runs", name: str | None = None):
         if name is not None:
             self.path = Path(root) / case / name
             self.path.mkdir(parents=True, exist_ok=True)
         else:
-            self.path = _new_folder(Path(root) / case, f"{time.strftime('%Y%m%d-%H%M%S')}-seed{seed}")
+            stem = time.strftime('%Y%m%d-%H%M%S') + (f"-seed{seed}" if seed is not None else "")
+            self.path = _new_folder(Path(root) / case, stem)
         self.case = case
         self.seed = seed
         self._t0 = time.perf_counter()
@@ -134,7 +135,7 @@ class RunFolder:
         self.load_at_start = _load_average()
 
     @classmethod
-    def existing(cls, path: str | Path, seed: int = -1) -> "RunFolder":
+    def existing(cls, path: str | Path, seed: int | None = None) -> "RunFolder":
         """Re-open an existing run folder (to resume an interrupted run); ``seed`` is the
         resumed case's, so the manifest keeps the real one."""
         from analytic.errors import InvalidParameter

@@ -19,9 +19,9 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
     interrupted run's own folder (its config.toml is the case, kept as it was)."""
     global current_folder
     if resume is not None:
-        folder = RunFolder.existing(resume, seed=getattr(case, "seed", -1))
+        folder = RunFolder.existing(resume, seed=getattr(case, "seed", None))
     else:
-        folder = RunFolder(study, getattr(case, "seed", -1), root=root, name=name)
+        folder = RunFolder(study, getattr(case, "seed", None), root=root, name=name)
         folder.write_config(case)
     current_folder = folder.path
     return folder

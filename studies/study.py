@@ -64,7 +64,7 @@ class Command:
     run:          (case, options) -> (result dict, one line for stderr or None); the
                   options namespace holds every run option plus ``out``, ``quiet``
     text:         result -> what a person reads (str or a rich renderable)
-    seed_key:     the case key ``--seed`` sets
+    seed_key:     the case key ``--seed`` sets (None: the case draws no random numbers)
     busy_note:    say on stderr when other jobs hold the cores (3D runs)
     """
 
@@ -75,7 +75,7 @@ class Command:
     run: Callable[[Any, SimpleNamespace], tuple[dict, str | None]]
     text: Callable[[dict], Any]
     options: tuple[Option, ...] = ()
-    seed_key: str = "seed"
+    seed_key: str | None = "seed"
     seed_default: int = 1
     busy_note: bool = False
 

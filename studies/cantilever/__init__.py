@@ -77,7 +77,7 @@ CALIBRATE = Command(
                 "EI = E t^3 / 12; a DEM cantilever checks the tip deflection and first frequency against "
                 "Euler-Bernoulli. Defaults: Sizkow & El Shamy's wall at model scale (E 40 GPa, t 5 mm, L 13.5 cm; "
                 "about 30 s).",
-    default_case=CantileverCase, run=_calibrate, text=_text,
+    default_case=CantileverCase, run=_calibrate, text=_text, seed_key=None,
     options=(Option("--E", "Young's modulus [Pa] (4e10)", key="youngs",
                     parse=number("E", 0, None, unit="Pa")),
              Option("--thickness", "wall thickness [m] (0.005)", key="thickness", parse=number("thickness", 0, None)),

@@ -160,6 +160,9 @@ LONG = [
     (["compare", "khosravi", "--particles-scale", "3", "--no-cache"], False),
     (["calibrate", "biaxial", "--particles-scale", "3", "--friction", "0.3"], False),
     (["calibrate", "triaxial", "--particles", "1000"], False),
+    (["validate", "nadukuru", "--particles", "3000", "--walls", "rough", "--modes", "T", "--no-triaxial",
+      "--no-rate-check", "--docs", "report"], False),
+    (["validate", "khosravi", "--docs", "report"], False),
 ]
 
 
