@@ -2,9 +2,14 @@
 
 ``wall_forces(case, materials, kh, kv)`` lists every force for one set of material
 factors (the thrust depends on phi_d) and seismic coefficients: self-weight of each
-part, the fill moving with the wall, the earth thrust parts (``earth.design_thrust``),
+part, the fill moving with the wall (gamma_sat below the water table behind), the
+earth thrust parts (``earth.design_thrust``: soil, surcharge and water behind apart),
 surcharge on the fill over the heel, water in front, uplift, wall and fill inertia, and
-passive resistance in front (only if switched on; it enters sliding only).
+passive resistance in front (only if switched on; it enters sliding only). With water
+behind, the free body (wall and the fill it carries) takes total weights and the water
+pressures on its boundary: the water thrust on the back, water in front and the uplift
+under the base, linear from gamma_w h_front at the toe to gamma_w h_behind at the heel
+(hydrostatic on each side; the seepage under the wall is not modelled).
 
 Signs (per metre run): Fh > 0 pushes the wall toward the front, Fv > 0 acts downward;
 (x, y) from the toe and the base underside [m]. ``kind``: 'G' permanent, 'Q' variable,
@@ -17,6 +22,8 @@ from dataclasses import dataclass
 
 from .case import GAMMA_W, DesignCase, design_angle
 from .earth import Backfill, Thrust, design_thrust, passive_resistance
+from .geometry import area_centroid, clip_above
+from .walls import Part
 
 
 @dataclass(frozen=True)
@@ -34,16 +41,19 @@ class Force:
 
 
 def design_backfill(fill: Backfill, materials: dict) -> Backfill:
-    """The fill with phi_d = atan(tan phi / gamma_phi), gamma / gamma_gamma (c stays 0)."""
+    """The fill with phi_d = atan(tan phi / gamma_phi'), c'_d = c' / gamma_c',
+    gamma / gamma_gamma and gamma_sat / gamma_gamma (EN 1997-1 2.4.6.2, Table A.4)."""
+    wet = None if fill.gamma_sat is None else fill.gamma_sat / materials["gamma"]
     return Backfill(fill.gamma / materials["gamma"], design_angle(fill.phi, materials["phi"]),
-                    fill.c / materials["c"], fill.beta)
+                    fill.c / materials["c"], fill.beta, wet)
 
 
 def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0.0) -> Thrust:
-    """The thrust on the wall's virtual back ('rankine-virtual-back', or 'coulomb' on a
-    cantilever or polygon wall) or real back ('coulomb' on a trapezoidal gravity wall)."""
+    """The thrust on the wall's virtual back ('rankine-virtual-back', or 'coulomb' /
+    'ec7-annex-c' on a cantilever or polygon wall) or real back ('coulomb' or
+    'ec7-annex-c' on a trapezoidal gravity wall), with the water table ``water.behind``."""
     wall, fill, m = case.wall, design_backfill(case.backfill, materials), case.method
-    real = m.earth_pressure == "coulomb" and wall.kind == "gravity" and wall.polygon is None
+    real = not uses_virtual_back(case)
     back = wall.real_back() if real else wall.virtual_back(fill.beta)
     delta = m.wall_friction
     if delta is None and real:
@@ -51,12 +61,14 @@ def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0
     elif delta is not None and real:
         delta = min(delta, fill.phi)
     return design_thrust(fill, back, m.earth_pressure, q=case.loads.surcharge, delta=delta, kh=kh, kv=kv,
-                         increment_height=case.seismic.increment_height)
+                         increment_height=case.seismic.increment_height, water_level=case.water.behind)
 
 
 def uses_virtual_back(case: DesignCase) -> bool:
+    """False for 'coulomb' or 'ec7-annex-c' on a trapezoidal gravity wall (real back)."""
     w = case.wall
-    return not (case.method.earth_pressure == "coulomb" and w.kind == "gravity" and w.polygon is None)
+    return not (case.method.earth_pressure in ("coulomb", "ec7-annex-c") and w.kind == "gravity"
+                and w.polygon is None)
 
 
 def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0.0) -> list[Force]:
@@ -64,7 +76,8 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
     wall, fill = case.wall, case.backfill
     solids = list(wall.parts())
     if uses_virtual_back(case):
-        solids += wall.fill_parts(fill.beta, fill.gamma / materials["gamma"])
+        solids += _split_at_water(wall.fill_parts(fill.beta, fill.gamma / materials["gamma"]),
+                                  case.water.behind, fill.gamma_wet / materials["gamma"])
     out = []
     for p in solids:
         (x, y), W = p.centroid, p.weight
@@ -77,9 +90,25 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
     return out
 
 
+def _split_at_water(parts: list[Part], level: float, gamma_wet: float) -> list[Part]:
+    """Fill parts cut at the water level y = ``level`` [m]: below it the saturated unit
+    weight ``gamma_wet`` [kN/m3] (total weight; the water pressures act on the free
+    body's boundary). Unchanged when dry."""
+    if level <= 0:
+        return parts
+    out = []
+    for p in parts:
+        below = [(x, -y) for x, y in clip_above([(x, -y) for x, y in p.polygon], (0.0, -level), 0.0)]
+        above = clip_above(list(p.polygon), (0.0, level), 0.0)
+        for poly, g, tag in ((above, p.unit_weight, ""), (below, gamma_wet, " (below water)")):
+            if len(poly) >= 3 and area_centroid(poly)[0] > 1e-12:
+                out.append(Part(p.name + tag, tuple(poly), g, p.source))
+    return out
+
+
 def thrust_forces(thrust: Thrust, surcharge_permanent: bool) -> list[Force]:
-    """The thrust parts as forces: soil 'G', surcharge 'Q' (or 'G'), seismic 'E'."""
-    kinds = {"soil": "G", "surcharge": "G" if surcharge_permanent else "Q", "seismic": "E"}
+    """The thrust parts as forces: soil and water 'G', surcharge 'Q' (or 'G'), seismic 'E'."""
+    kinds = {"soil": "G", "water": "G", "surcharge": "G" if surcharge_permanent else "Q", "seismic": "E"}
     return [Force(t.name, kinds[t.kind], "geotechnical", t.Ph, t.Pv, t.x, t.y) for t in thrust.parts]
 
 

@@ -17,7 +17,7 @@ WALL_KEYS = {
     "blocks": {"height", "base", "front_batter", "back_batter", "courses", "joint_slope", "joint_friction",
                "unit_weight", "stair_slope"},
 }
-TABLES = {"backfill": (Backfill, {"gamma", "phi", "c", "beta"}),
+TABLES = {"backfill": (Backfill, {"gamma", "phi", "c", "beta", "gamma_sat"}),
           "foundation": (Foundation, {"gamma", "phi", "c", "base_friction_ratio", "base_friction_angle",
                                       "base_adhesion", "embedment", "cu"}),
           "loads": (Loads, {"surcharge", "surcharge_permanent"}),
