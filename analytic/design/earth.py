@@ -195,11 +195,11 @@ def _ground_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: 
                            ("water", "water thrust", 0.0)):
         p = prof.parts[key]
         if p.N > 0:
-            P = p.N / 1e3 / math.cos(ang)
-            x, y = back.point_at(back.y0 + p.height)
+            P = float(p.N) / 1e3 / math.cos(ang)
+            x, y = back.point_at(back.y0 + float(p.height))
             parts.append(ThrustPart(name, "soil" if key == "soil" else key, P, P * math.cos(ang + om),
                                     P * math.sin(ang + om), x, y))
-    K = prof.K_layers[0]
+    K = float(prof.K_layers[0])
     K_total = K
     if kh > 0 or kv != 0:
         parts.append(_seismic_increment(fill, back, K, parts, d, kh, kv, inc))

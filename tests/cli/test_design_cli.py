@@ -183,3 +183,20 @@ def test_design_replaced_factors(tmp_path, capsys):
     bad = write(tmp_path, text.replace("[combinations.DA2]", "[combinations.XX]"), "bad.toml")
     assert main(["design", wall, "--format", "DA2", "--factors", bad]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_design_cohesive_fill_and_water_table(tmp_path, capsys):
+    """A cohesive fill with a water table through the command line: the numbers of the
+    API (checked by hand in tests/analytic/design/test_design_ground.py) and the
+    conventions it followed."""
+    from analytic.design import factors_of_safety, load_factors, verify
+    from analytic.design.config import case_from_dict
+    import tomllib
+    text = (WALL.replace("c = 0\nbeta", "c = 5\ngamma_sat = 20\nbeta")
+            .replace('"rankine-virtual-back"', '"ec7-annex-c"') + "[water]\nbehind = 2.7\n")
+    assert main(["design", write(tmp_path, text), "--format", "fs", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    fs = factors_of_safety(verify(case_from_dict(tomllib.loads(text)), load_factors(), "fs"))
+    assert out["fs"]["sliding"] == pytest.approx(fs["sliding"], rel=1e-12)
+    assert any("water table in the fill 2.7 m" in c for c in out["conventions"])
+    assert any("Annex C K_c" in c for c in out["conventions"])
