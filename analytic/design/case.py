@@ -168,9 +168,6 @@ class DesignCase:
             raise InvalidParameter("backfill", "missing", "a [backfill] table for a cantilever or gravity wall")
         if kind != "blocks" and self.foundation is None:
             raise InvalidParameter("foundation", "missing", "a [foundation] table")
-        if kind == "blocks" and self.backfill is not None and self.water.behind > 0:
-            raise InvalidParameter("water.behind", self.water.behind, "0 m for a block wall with a backfill",
-                                   "the joint checks take water or a dry fill, not both")
 
     def replace_wall(self, wall) -> "DesignCase":
         from dataclasses import replace

@@ -170,3 +170,24 @@ def test_annex_c_reduces_to_rankine_for_a_dry_level_fill():
         a, b = verify(case("ec7-annex-c"), F, fmt), verify(case("rankine-virtual-back"), F, fmt)
         for k, (_, c) in b.worst.items():
             assert a.worst[k][1].utilisation == pytest.approx(c.utilisation, rel=1e-12), (fmt, k)
+
+
+def test_block_wall_fill_with_water_table_base_joint_by_hand():
+    """A rectangular block wall (h 3, b 1.2, no batter, level joints, joint friction 35,
+    22 kN/m3: W = 79.2 kN/m) retaining a fill 18 / 20 (sat) kN/m3, phi 30, water 2 m
+    above the base; Coulomb delta = 2/3 phi = 20 on the back (Ka = 0.29731).
+    sigma'_v: 18 z to 18 kPa at z = 1 m, then 18 + 10.19 (z - 1): S = 9 + 36 + 20.38 =
+    65.38 kN/m; Ph = Ka S cos 20, Pv = Ka S sin 20; water 0.5 x 9.81 x 2^2 = 19.62 kN/m;
+    the joints drain (no uplift). Base joint, factors 1: FS sliding =
+    (79.2 + 6.648) tan 35 / (18.266 + 19.62) = 1.58664."""
+    from analytic.design.blocks import BlockWall
+    Ka = math.cos(r(30)) ** 2 / (math.cos(r(20)) * (1 + math.sqrt(math.sin(r(50)) * math.sin(r(30))
+                                                                  / math.cos(r(20)))) ** 2)
+    S = 9 + 36 + 0.5 * 10.19 * 4
+    Ph, Pv = Ka * S * math.cos(r(20)), Ka * S * math.sin(r(20))
+    fs = (79.2 + Pv) * math.tan(r(35)) / (Ph + 19.62)
+    case = DesignCase(BlockWall(3.0, 1.2, courses=10, joint_friction=35), Backfill(18, 30, gamma_sat=20),
+                      water=Water(behind=2.0))
+    base = verify(case, F, "fs").combinations[0].joints[0]["sliding"]
+    assert base.R_d / base.E_d == pytest.approx(fs, rel=1e-9)
+    assert fs == pytest.approx(1.58664, abs=1e-5)
