@@ -18,10 +18,11 @@ Signs (per metre run): Fh > 0 pushes the wall toward the front, Fv > 0 acts down
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 from .case import GAMMA_W, DesignCase, design_angle
-from .earth import Backfill, Thrust, design_thrust, passive_resistance
+from .earth import Backfill, FillLayer, Thrust, design_thrust, passive_resistance
 from .geometry import area_centroid, clip_above
 from .walls import Part
 
@@ -43,9 +44,13 @@ class Force:
 def design_backfill(fill: Backfill, materials: dict) -> Backfill:
     """The fill with phi_d = atan(tan phi / gamma_phi'), c'_d = c' / gamma_c',
     gamma / gamma_gamma and gamma_sat / gamma_gamma (EN 1997-1 2.4.6.2, Table A.4)."""
-    wet = None if fill.gamma_sat is None else fill.gamma_sat / materials["gamma"]
-    return Backfill(fill.gamma / materials["gamma"], design_angle(fill.phi, materials["phi"]),
-                    fill.c / materials["c"], fill.beta, wet)
+    g = materials["gamma"]
+
+    def design(x) -> dict:
+        return {"gamma": x.gamma / g, "phi": design_angle(x.phi, materials["phi"]), "c": x.c / materials["c"],
+                "gamma_sat": None if x.gamma_sat is None else x.gamma_sat / g}
+    layers = tuple(FillLayer(x.thickness, **design(x)) for x in fill.layers)
+    return Backfill(beta=fill.beta, layers=layers, **design(fill))
 
 
 def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0.0) -> Thrust:
@@ -76,8 +81,9 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
     wall, fill = case.wall, case.backfill
     solids = list(wall.parts())
     if uses_virtual_back(case):
-        solids += _split_at_water(wall.fill_parts(fill.beta, fill.gamma / materials["gamma"]),
-                                  case.water.behind, fill.gamma_wet / materials["gamma"])
+        dfill = design_backfill(fill, materials)
+        bands = _weight_bands(dfill, wall.virtual_back(fill.beta).height, case.water.behind)
+        solids += _split(wall.fill_parts(fill.beta, dfill.gamma), bands)
     out = []
     for p in solids:
         (x, y), W = p.centroid, p.weight
@@ -90,19 +96,34 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
     return out
 
 
-def _split_at_water(parts: list[Part], level: float, gamma_wet: float) -> list[Part]:
-    """Fill parts cut at the water level y = ``level`` [m]: below it the saturated unit
-    weight ``gamma_wet`` [kN/m3] (total weight; the water pressures act on the free
-    body's boundary). Unchanged when dry."""
-    if level <= 0:
-        return parts
+def _weight_bands(fill: Backfill, top: float, level: float) -> list[tuple[float, float, float]]:
+    """(y_lo, y_hi, unit weight [kN/m3]) of the fill moving with the wall: the strata of
+    ``fill`` below the fill surface at the virtual back (y = ``top`` [m]), each at gamma
+    above the water level y = ``level`` and gamma_sat below it; the top band reaches up
+    and the bottom band down without end."""
+    bands = []
+    for z0, z1, soil in fill.strata(top):
+        hi, lo = (math.inf if z0 == 0 else top - z0), (-math.inf if soil is fill else top - z1)
+        cut = min(max(level, lo), hi) if level > 0 else lo
+        bands += [(cut, hi, soil.gamma), (lo, cut, soil.gamma_wet)]
+    return [b for b in bands if b[1] > b[0]]
+
+
+def _split(parts: list[Part], bands: list[tuple[float, float, float]]) -> list[Part]:
+    """Fill parts cut into the horizontal ``bands`` (total weights: the water pressures
+    act on the free body's boundary). Unchanged for one band."""
+    if len(bands) == 1:
+        return [replace(p, unit_weight=bands[0][2]) for p in parts]
     out = []
     for p in parts:
-        below = [(x, -y) for x, y in clip_above([(x, -y) for x, y in p.polygon], (0.0, -level), 0.0)]
-        above = clip_above(list(p.polygon), (0.0, level), 0.0)
-        for poly, g, tag in ((above, p.unit_weight, ""), (below, gamma_wet, " (below water)")):
+        for lo, hi, g in bands:
+            poly = list(p.polygon)
+            if lo > -math.inf:
+                poly = clip_above(poly, (0.0, lo), 0.0)
+            if hi < math.inf:
+                poly = [(x, -y) for x, y in clip_above([(x, -y) for x, y in poly], (0.0, -hi), 0.0)]
             if len(poly) >= 3 and area_centroid(poly)[0] > 1e-12:
-                out.append(Part(p.name + tag, tuple(poly), g, p.source))
+                out.append(Part(f"{p.name} ({lo:.3g} to {hi:.3g} m)", tuple(poly), g, p.source))
     return out
 
 

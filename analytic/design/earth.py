@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 from ..classical import coulomb_coefficient, rankine_coefficient
 from ..errors import InvalidParameter, NotApplicable
-from ..ground import Ground, earth_pressure
+from ..ground import Ground, Layer, earth_pressure
 from ..inputs import Wall, require_number
 from ..seismic import mononobe_okabe_coefficient
 from .walls import WallBack
@@ -31,21 +31,62 @@ GAMMA_W = 9.81  # kN/m3
 
 
 @dataclass(frozen=True)
+class FillLayer:
+    """A layer of the fill above the ``Backfill`` soil: thickness [m] down the back from
+    the fill surface (or from the layer above), gamma, gamma_sat [kN/m3], phi [deg] in
+    (0, 50], c [kPa] (effective c')."""
+
+    thickness: float
+    gamma: float
+    phi: float
+    c: float = 0.0
+    gamma_sat: float | None = None
+
+    def __post_init__(self):
+        require_number("backfill.layers.thickness", self.thickness, 0.0, None, unit="m")
+        require_number("backfill.layers.gamma", self.gamma, 0.0, None, unit="kN/m3")
+        require_number("backfill.layers.phi", self.phi, 0.0, 50.0, hi_open=False, unit="deg")
+        require_number("backfill.layers.c", self.c, 0.0, None, lo_open=False, unit="kPa")
+        if self.gamma_sat is not None:
+            require_number("backfill.layers.gamma_sat", self.gamma_sat, GAMMA_W, None, lo_open=False, unit="kN/m3")
+
+    @property
+    def gamma_wet(self) -> float:
+        """Unit weight below the water table [kN/m3]."""
+        return self.gamma if self.gamma_sat is None else self.gamma_sat
+
+
+@dataclass(frozen=True)
 class Backfill:
     """Fill behind (or soil in front of) the wall: gamma [kN/m3], phi [deg] in (0, 50],
     c [kPa] (effective c'), beta [deg] surface slope, + rising away from the wall;
-    gamma_sat [kN/m3] below a water table (default: gamma)."""
+    gamma_sat [kN/m3] below a water table (default: gamma); layers: ``FillLayer``
+    records from the fill surface down, above this soil, which reaches the base."""
 
     gamma: float
     phi: float
     c: float = 0.0
     beta: float = 0.0
     gamma_sat: float | None = None
+    layers: tuple = ()
+
+    gamma_wet = FillLayer.gamma_wet
 
     @property
-    def gamma_wet(self) -> float:
-        """Unit weight below the water table [kN/m3]."""
-        return self.gamma if self.gamma_sat is None else self.gamma_sat
+    def cohesive(self) -> bool:
+        """c' > 0 in any layer."""
+        return any(x.c > 0 for x in (self, *self.layers))
+
+    def strata(self, H: float) -> list:
+        """(depth of the top, depth of the bottom [m], soil) down a back of height H [m]:
+        the layers, cut at H, then this soil down to H."""
+        out, z = [], 0.0
+        for x in (*self.layers, self):
+            bot = H if x is self else min(z + x.thickness, H)
+            if bot > z:
+                out.append((z, bot, x))
+            z = bot
+        return out
 
     def __post_init__(self):
         require_number("backfill.gamma", self.gamma, 0.0, None, unit="kN/m3")
@@ -53,6 +94,9 @@ class Backfill:
         require_number("backfill.c", self.c, 0.0, None, lo_open=False, unit="kPa")
         if self.gamma_sat is not None:
             require_number("backfill.gamma_sat", self.gamma_sat, GAMMA_W, None, lo_open=False, unit="kN/m3")
+        if not all(isinstance(x, FillLayer) for x in self.layers):
+            raise InvalidParameter("backfill.layers", len(self.layers), "tables with thickness, gamma, phi "
+                                   "(and c, gamma_sat)")
         if abs(self.beta) > self.phi:
             raise InvalidParameter("backfill.beta", self.beta, f"[-phi, phi] = [{-self.phi:g}, {self.phi:g}] deg",
                                    "no active wedge on a slope steeper than phi")
@@ -125,7 +169,7 @@ def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float =
     if not 0.0 <= water_level <= back.height + 1e-9:
         raise InvalidParameter("water.behind", water_level, f"[0, {back.height:g}] m (up to the fill surface "
                                "at the back)")
-    if backfill.c > 0 or water_level > 0 or method == "ec7-annex-c":
+    if backfill.cohesive or water_level > 0 or method == "ec7-annex-c" or backfill.layers:
         return _ground_parts(backfill, back, method, q, d, water_level, kh, kv, increment_height)
     return _active_parts(backfill, back, method, q, d, kh, kv, increment_height)
 
@@ -172,17 +216,18 @@ def _seismic_increment(fill: Backfill, back: WallBack, K: float, static: list, d
 
 def _ground_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: float, water_level: float,
                   kh: float, kv: float, inc: float) -> Thrust:
-    """Soil, surcharge and water parts from ``analytic.ground.earth_pressure`` (one layer;
-    kN -> N). Each effective part acts at delta (beta for Rankine) to the face normal,
-    P = N / cos(delta); the water part is normal to the face. Seismic (Mononobe-Okabe)
-    only for a dry cohesionless fill (Annex C static thrust, same ratio rule)."""
-    if (kh > 0 or kv != 0) and (fill.c > 0 or water_level > 0):
-        raise InvalidParameter("seismic.alpha", kh, "0 with a cohesive or submerged fill",
-                               "Mononobe-Okabe is applied to a dry cohesionless fill only")
+    """Soil, surcharge and water parts from ``analytic.ground.earth_pressure`` (the
+    strata of the fill; kN -> N). Each effective part acts at delta (beta for Rankine) to
+    the face normal, P = N / cos(delta); the water part is normal to the face. Seismic
+    (Mononobe-Okabe) only for a dry, uniform, cohesionless fill (Annex C static thrust,
+    same ratio rule)."""
+    if (kh > 0 or kv != 0) and (fill.cohesive or water_level > 0 or fill.layers):
+        raise InvalidParameter("seismic.alpha", kh, "0 with a cohesive, submerged or layered fill",
+                               "Mononobe-Okabe is applied to a dry, uniform, cohesionless fill only")
     H = back.height
-    wet = None if fill.gamma_sat is None else fill.gamma_sat * 1e3
-    ground = Ground.uniform(H, fill.phi, fill.gamma * 1e3, fill.c * 1e3, wet,
-                            water_depth=H - water_level if water_level > 0 else None)
+    layers = tuple(Layer(b - t, x.phi, x.gamma * 1e3, x.c * 1e3, None if x.gamma_sat is None else x.gamma_sat * 1e3)
+                   for t, b, x in fill.strata(H))
+    ground = Ground(layers, water_depth=H - water_level if water_level > 0 else None)
     wall = Wall(H, delta_deg=delta, omega_deg=back.omega, beta_deg=fill.beta, surcharge=q * 1e3)
     try:
         prof = earth_pressure(ground, wall, GROUND_METHODS[method])

@@ -61,13 +61,16 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
 def _ground_conventions(case: DesignCase) -> list[str]:
     """Sentences on cohesion and water behind a cantilever or gravity wall."""
     out = []
-    if case.backfill.c > 0:
+    if case.backfill.cohesive:
         out.append("cohesion: c'_d = c' / gamma_c'; " + (
             "Rankine-Bell, the tension crack (negative active stress) not counted"
             if case.method.earth_pressure == "rankine-virtual-back" else
             "EN 1997-1 C.1 K_ac = 2 sqrt(K cos delta) (no adhesion), tension not counted"
             if case.method.earth_pressure == "coulomb" else
             "EN 1997-1 Annex C K_c, tension not counted"))
+    if case.backfill.layers:
+        out.append(f"layered fill: {len(case.backfill.layers)} layer(s) over the [backfill] soil, K per layer, "
+                   "sigma'_v continuous across the interfaces")
     if case.water.behind > 0:
         out.append(f"water table in the fill {case.water.behind:g} m above the base underside: effective "
                    "stresses (gamma_sat - gamma_w) below it, the water thrust a separate permanent action, "

@@ -200,3 +200,23 @@ def test_design_cohesive_fill_and_water_table(tmp_path, capsys):
     assert out["fs"]["sliding"] == pytest.approx(fs["sliding"], rel=1e-12)
     assert any("water table in the fill 2.7 m" in c for c in out["conventions"])
     assert any("Annex C K_c" in c for c in out["conventions"])
+
+
+def test_design_layered_fill_toml(tmp_path, capsys):
+    """[[backfill.layers]] from the top, the [backfill] soil below them: the numbers of
+    test_cantilever_layered_fill_factors_of_safety_by_hand (FS sliding 2.0793)."""
+    text = WALL.replace("c = 0\nbeta = 0", "c = 5\nbeta = 0") + (
+        "[[backfill.layers]]\nthickness = 2.0\ngamma = 16\nphi = 28\n")
+    assert main(["design", write(tmp_path, text), "--format", "fs", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["fs"]["sliding"] == pytest.approx(2.0793, abs=1e-4)
+    bad = text.replace("thickness = 2.0", "thickness = -2.0")
+    assert main(["design", write(tmp_path, bad)]) == 2
+    assert "backfill.layers.thickness" in capsys.readouterr().err
+
+
+def test_design_seismic_refuses_cohesive_fill(tmp_path, capsys):
+    text = WALL.replace("c = 0\nbeta", "c = 5\nbeta") + "[seismic]\nalpha = 0.2\n"
+    assert main(["design", write(tmp_path, text), "--format", "seismic"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "seismic.alpha" in err[0]

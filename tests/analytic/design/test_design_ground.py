@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from analytic.design import (Backfill, CantileverWall, DesignCase, Foundation, GravityWall, Method, Water,
+from analytic.design import (Backfill, CantileverWall, DesignCase, FillLayer, Foundation, GravityWall, Method, Water,
                              factors_of_safety, load_factors, verify)
 from analytic.design.actions import wall_forces
 
@@ -191,3 +191,44 @@ def test_block_wall_fill_with_water_table_base_joint_by_hand():
     base = verify(case, F, "fs").combinations[0].joints[0]["sliding"]
     assert base.R_d / base.E_d == pytest.approx(fs, rel=1e-9)
     assert fs == pytest.approx(1.58664, abs=1e-5)
+
+
+def test_cantilever_layered_fill_factors_of_safety_by_hand():
+    """Issue 29's cantilever with 2 m of fill 16 kN/m3, phi' 28 over fill 18 kN/m3, phi'
+    32, c' 5 kPa down to the base; Rankine-Bell per layer on the virtual back (H 6):
+    K1 = (1 - sin 28)/(1 + sin 28) = 0.36103, P1 = 0.5 K1 16 2^2 = 11.553 at 4 + 2/3 m;
+    K2 = tan^2 29 = 0.30726; sigma' = K2 sigma'_v - 2 c' sqrt(K2): 4.2892 kPa under the
+    interface (sigma'_v = 32), 26.412 kPa at the base (sigma'_v = 104): rectangle 17.157
+    at 2 m + triangle 44.245 at 4/3 m; Ph = 72.955 kN/m at 2.01798 m.
+    Weights: base 78.96 at 2.35, stem 63.6 at 1.45, fill 3 (2 x 16 + 3.3 x 18) = 274.2 at
+    3.2: V = 416.76 kN/m, M_W = 1155.216 kN m/m.
+    FS_o = M_W / (Ph y) = 7.8468; FS_s = V tan(20.001) / Ph = 2.0793."""
+    K1 = (1 - math.sin(r(28))) / (1 + math.sin(r(28)))
+    K2 = math.tan(r(29)) ** 2
+    P1 = 0.5 * K1 * 16 * 4
+    top, bot = K2 * 32 - 10 * math.sqrt(K2), K2 * 104 - 10 * math.sqrt(K2)
+    Ph = P1 + top * 4 + 0.5 * (bot - top) * 4
+    y = (P1 * (4 + 2 / 3) + top * 4 * 2 + 0.5 * (bot - top) * 4 * 4 / 3) / Ph
+    assert (Ph, y) == pytest.approx((72.955, 2.01798), abs=5e-4)
+    V, M_W = 78.96 + 63.6 + 274.2, 78.96 * 2.35 + 63.6 * 1.45 + 274.2 * 3.2
+    case = DesignCase(CantileverWall(6.0, 0.5, 0.5, 1.2, 3.0, 0.7, 24.0),
+                      Backfill(18, 32, 5, layers=(FillLayer(2.0, 16, 28),)),
+                      Foundation(18, 30, 0, base_friction_ratio=0.6667, embedment=0.7))
+    fs = factors_of_safety(verify(case, F, "fs"))
+    assert fs["overturning"] == pytest.approx(M_W / (Ph * y), rel=1e-9)
+    assert fs["overturning"] == pytest.approx(7.8468, abs=1e-4)
+    assert fs["sliding"] == pytest.approx(V * math.tan(r(0.6667 * 30)) / Ph, rel=1e-9)
+    assert fs["sliding"] == pytest.approx(2.0793, abs=1e-4)
+
+
+def test_two_identical_layers_equal_one_soil():
+    """A layer of the same soil as the one below changes nothing (with a water table
+    crossing the interface and c' > 0): every DA1 utilisation equal to 1e-9."""
+    def case(layers):
+        return DesignCase(CantileverWall(6.0, 0.5, 0.5, 1.2, 3.0, 0.7, 24.0),
+                          Backfill(18, 32, 5, gamma_sat=20, layers=layers),
+                          Foundation(18, 30, 0, base_friction_ratio=0.6667, embedment=0.7), water=Water(behind=3.5))
+    a = verify(case((FillLayer(3.0, 18, 32, 5, 20),)), F, "DA1")
+    b = verify(case(()), F, "DA1")
+    for k, (_, c) in b.worst.items():
+        assert a.worst[k][1].utilisation == pytest.approx(c.utilisation, rel=1e-9), k
