@@ -30,6 +30,15 @@ GROUND_METHODS = {"rankine-virtual-back": "rankine", "coulomb": "coulomb", "ec7-
 GAMMA_W = 9.81  # kN/m3
 
 
+def check_soil(table: str, soil) -> None:
+    """gamma > 0 [kN/m3], phi in (0, 50] [deg], c >= 0 [kPa], gamma_sat >= gamma_w."""
+    require_number(f"{table}.gamma", soil.gamma, 0.0, None, unit="kN/m3")
+    require_number(f"{table}.phi", soil.phi, 0.0, 50.0, hi_open=False, unit="deg")
+    require_number(f"{table}.c", soil.c, 0.0, None, lo_open=False, unit="kPa")
+    if soil.gamma_sat is not None:
+        require_number(f"{table}.gamma_sat", soil.gamma_sat, GAMMA_W, None, lo_open=False, unit="kN/m3")
+
+
 @dataclass(frozen=True)
 class FillLayer:
     """A layer of the fill above the ``Backfill`` soil: thickness [m] down the back from
@@ -44,11 +53,7 @@ class FillLayer:
 
     def __post_init__(self):
         require_number("backfill.layers.thickness", self.thickness, 0.0, None, unit="m")
-        require_number("backfill.layers.gamma", self.gamma, 0.0, None, unit="kN/m3")
-        require_number("backfill.layers.phi", self.phi, 0.0, 50.0, hi_open=False, unit="deg")
-        require_number("backfill.layers.c", self.c, 0.0, None, lo_open=False, unit="kPa")
-        if self.gamma_sat is not None:
-            require_number("backfill.layers.gamma_sat", self.gamma_sat, GAMMA_W, None, lo_open=False, unit="kN/m3")
+        check_soil("backfill.layers", self)
 
     @property
     def gamma_wet(self) -> float:
@@ -89,11 +94,7 @@ class Backfill:
         return out
 
     def __post_init__(self):
-        require_number("backfill.gamma", self.gamma, 0.0, None, unit="kN/m3")
-        require_number("backfill.phi", self.phi, 0.0, 50.0, hi_open=False, unit="deg")
-        require_number("backfill.c", self.c, 0.0, None, lo_open=False, unit="kPa")
-        if self.gamma_sat is not None:
-            require_number("backfill.gamma_sat", self.gamma_sat, GAMMA_W, None, lo_open=False, unit="kN/m3")
+        check_soil("backfill", self)
         if not all(isinstance(x, FillLayer) for x in self.layers):
             raise InvalidParameter("backfill.layers", len(self.layers), "tables with thickness, gamma, phi "
                                    "(and c, gamma_sat)")
