@@ -70,7 +70,7 @@ def _ground_conventions(case: DesignCase) -> list[str]:
             "EN 1997-1 Annex C K_c, tension not counted"))
     if case.backfill.layers:
         out.append(f"layered fill: {len(case.backfill.layers)} layer(s) over the [backfill] soil, K per layer, "
-                   "sigma'_v continuous across the interfaces")
+                   "sigma'_v continuous across the interfaces, K printed: the top layer's")
     if case.water.behind > 0:
         out.append(f"water table in the fill {case.water.behind:g} m above the base underside: effective "
                    "stresses (gamma_sat - gamma_w) below it, the water thrust a separate permanent action, "
