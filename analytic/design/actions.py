@@ -2,9 +2,14 @@
 
 ``wall_forces(case, materials, kh, kv)`` lists every force for one set of material
 factors (the thrust depends on phi_d) and seismic coefficients: self-weight of each
-part, the fill moving with the wall, the earth thrust parts (``earth.design_thrust``),
+part, the fill moving with the wall (gamma_sat below the water table behind), the
+earth thrust parts (``earth.design_thrust``: soil, surcharge and water behind apart),
 surcharge on the fill over the heel, water in front, uplift, wall and fill inertia, and
-passive resistance in front (only if switched on; it enters sliding only).
+passive resistance in front (only if switched on; it enters sliding only). With water
+behind, the free body (wall and the fill it carries) takes total weights and the water
+pressures on its boundary: the water thrust on the back, water in front and the uplift
+under the base, linear from gamma_w h_front at the toe to gamma_w h_behind at the heel
+(hydrostatic on each side; the seepage under the wall is not modelled).
 
 Signs (per metre run): Fh > 0 pushes the wall toward the front, Fv > 0 acts downward;
 (x, y) from the toe and the base underside [m]. ``kind``: 'G' permanent, 'Q' variable,
@@ -13,10 +18,13 @@ Signs (per metre run): Fh > 0 pushes the wall toward the front, Fv > 0 acts down
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 from .case import GAMMA_W, DesignCase, design_angle
-from .earth import Backfill, Thrust, design_thrust, passive_resistance
+from .earth import Backfill, FillLayer, Thrust, design_thrust, passive_resistance
+from .geometry import area_centroid, clip_above
+from .walls import Part
 
 
 @dataclass(frozen=True)
@@ -34,16 +42,23 @@ class Force:
 
 
 def design_backfill(fill: Backfill, materials: dict) -> Backfill:
-    """The fill with phi_d = atan(tan phi / gamma_phi), gamma / gamma_gamma (c stays 0)."""
-    return Backfill(fill.gamma / materials["gamma"], design_angle(fill.phi, materials["phi"]),
-                    fill.c / materials["c"], fill.beta)
+    """The fill with phi_d = atan(tan phi / gamma_phi'), c'_d = c' / gamma_c',
+    gamma / gamma_gamma and gamma_sat / gamma_gamma (EN 1997-1 2.4.6.2, Table A.4)."""
+    g = materials["gamma"]
+
+    def design(x) -> dict:
+        return {"gamma": x.gamma / g, "phi": design_angle(x.phi, materials["phi"]), "c": x.c / materials["c"],
+                "gamma_sat": None if x.gamma_sat is None else x.gamma_sat / g}
+    layers = tuple(FillLayer(x.thickness, **design(x)) for x in fill.layers)
+    return Backfill(beta=fill.beta, layers=layers, **design(fill))
 
 
 def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0.0) -> Thrust:
-    """The thrust on the wall's virtual back ('rankine-virtual-back', or 'coulomb' on a
-    cantilever or polygon wall) or real back ('coulomb' on a trapezoidal gravity wall)."""
+    """The thrust on the wall's virtual back ('rankine-virtual-back', or 'coulomb' /
+    'ec7-annex-c' on a cantilever or polygon wall) or real back ('coulomb' or
+    'ec7-annex-c' on a trapezoidal gravity wall), with the water table ``water.behind``."""
     wall, fill, m = case.wall, design_backfill(case.backfill, materials), case.method
-    real = m.earth_pressure == "coulomb" and wall.kind == "gravity" and wall.polygon is None
+    real = not uses_virtual_back(case)
     back = wall.real_back() if real else wall.virtual_back(fill.beta)
     delta = m.wall_friction
     if delta is None and real:
@@ -51,12 +66,14 @@ def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0
     elif delta is not None and real:
         delta = min(delta, fill.phi)
     return design_thrust(fill, back, m.earth_pressure, q=case.loads.surcharge, delta=delta, kh=kh, kv=kv,
-                         increment_height=case.seismic.increment_height)
+                         increment_height=case.seismic.increment_height, water_level=case.water.behind)
 
 
 def uses_virtual_back(case: DesignCase) -> bool:
+    """False for 'coulomb' or 'ec7-annex-c' on a trapezoidal gravity wall (real back)."""
     w = case.wall
-    return not (case.method.earth_pressure == "coulomb" and w.kind == "gravity" and w.polygon is None)
+    return not (case.method.earth_pressure in ("coulomb", "ec7-annex-c") and w.kind == "gravity"
+                and w.polygon is None)
 
 
 def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0.0) -> list[Force]:
@@ -64,7 +81,9 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
     wall, fill = case.wall, case.backfill
     solids = list(wall.parts())
     if uses_virtual_back(case):
-        solids += wall.fill_parts(fill.beta, fill.gamma / materials["gamma"])
+        dfill = design_backfill(fill, materials)
+        bands = _weight_bands(dfill, wall.virtual_back(fill.beta).height, case.water.behind)
+        solids += _split(wall.fill_parts(fill.beta, dfill.gamma), bands)
     out = []
     for p in solids:
         (x, y), W = p.centroid, p.weight
@@ -77,9 +96,40 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
     return out
 
 
+def _weight_bands(fill: Backfill, top: float, level: float) -> list[tuple[float, float, float]]:
+    """(y_lo, y_hi, unit weight [kN/m3]) of the fill moving with the wall: the strata of
+    ``fill`` below the fill surface at the virtual back (y = ``top`` [m]), each at gamma
+    above the water level y = ``level`` and gamma_sat below it; the top band reaches up
+    and the bottom band down without end."""
+    bands = []
+    for z0, z1, soil in fill.strata(top):
+        hi, lo = (math.inf if z0 == 0 else top - z0), (-math.inf if soil is fill else top - z1)
+        cut = min(max(level, lo), hi) if level > 0 else lo
+        bands += [(cut, hi, soil.gamma), (lo, cut, soil.gamma_wet)]
+    return [b for b in bands if b[1] > b[0]]
+
+
+def _split(parts: list[Part], bands: list[tuple[float, float, float]]) -> list[Part]:
+    """Fill parts cut into the horizontal ``bands`` (total weights: the water pressures
+    act on the free body's boundary). Unchanged for one band."""
+    if len(bands) == 1:
+        return [replace(p, unit_weight=bands[0][2]) for p in parts]
+    out = []
+    for p in parts:
+        for lo, hi, g in bands:
+            poly = list(p.polygon)
+            if lo > -math.inf:
+                poly = clip_above(poly, (0.0, lo), 0.0)
+            if hi < math.inf:
+                poly = [(x, -y) for x, y in clip_above([(x, -y) for x, y in poly], (0.0, -hi), 0.0)]
+            if len(poly) >= 3 and area_centroid(poly)[0] > 1e-12:
+                out.append(Part(f"{p.name} ({lo:.3g} to {hi:.3g} m)", tuple(poly), g, p.source))
+    return out
+
+
 def thrust_forces(thrust: Thrust, surcharge_permanent: bool) -> list[Force]:
-    """The thrust parts as forces: soil 'G', surcharge 'Q' (or 'G'), seismic 'E'."""
-    kinds = {"soil": "G", "surcharge": "G" if surcharge_permanent else "Q", "seismic": "E"}
+    """The thrust parts as forces: soil and water 'G', surcharge 'Q' (or 'G'), seismic 'E'."""
+    kinds = {"soil": "G", "water": "G", "surcharge": "G" if surcharge_permanent else "Q", "seismic": "E"}
     return [Force(t.name, kinds[t.kind], "geotechnical", t.Ph, t.Pv, t.x, t.y) for t in thrust.parts]
 
 

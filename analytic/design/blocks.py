@@ -12,8 +12,9 @@ For the part above a joint:
   E = overturning moment, R = restoring moment (vertical components restore);
 * loads on the moving part's inner face only: water from y_I up to the water level
   h_w (H = gamma_w (h_w - y_I)^2 / 2 at a third, V = H tan(lambda2)), or the fill's
-  Coulomb thrust above y_I (``earth.design_thrust`` on the real back). Dry joints drain:
-  no uplift in the joints.
+  Coulomb thrust above y_I (``earth.design_thrust`` on the real back; with a water table
+  in the fill, effective stresses below it and the same water pressure as a separate
+  part). Dry joints drain: no uplift in the joints.
 * with ``stair_slope`` m > 0 toppling is also tried about lines from O rising inward at
   theta in [-alpha, atan(m) - alpha] through head and bed joints (drystone-walls.md 5.5,
   a pure opening that costs nothing); m = 0 keeps the bed joints only.
@@ -139,7 +140,7 @@ def joint_forces(case: DesignCase, z: float, materials: dict, kh: float = 0.0,
         out.append(Force("masonry inertia", "E", "structural", kh * W, -kv * W, xg, yg))
     t2 = math.tan(math.radians(wall.back_batter))
     hw = min(case.water.behind, wall.height)
-    if hw > y_I:
+    if hw > y_I and case.backfill is None:
         Hw = 0.5 * GAMMA_W * (hw - y_I) ** 2
         yH = y_I + (hw - y_I) / 3
         out.append(Force("water on back", "G", "geotechnical", Hw, Hw * t2, wall.x_i(yH), yH))
@@ -148,7 +149,8 @@ def joint_forces(case: DesignCase, z: float, materials: dict, kh: float = 0.0,
         back = WallBack(wall.x_i(y_I), y_I, wall.height - y_I, wall.back_batter)
         delta = case.method.wall_friction if case.method.wall_friction is not None else 2 / 3 * fill.phi
         thrust = design_thrust(fill, back, "coulomb", q=case.loads.surcharge, delta=min(delta, fill.phi),
-                               kh=kh, kv=kv, increment_height=case.seismic.increment_height)
+                               kh=kh, kv=kv, increment_height=case.seismic.increment_height,
+                               water_level=max(hw - y_I, 0.0))
         out += thrust_forces(thrust, case.loads.surcharge_permanent)
     return out, y_I
 

@@ -12,9 +12,7 @@ from dataclasses import dataclass
 
 from ..errors import InvalidParameter
 from ..inputs import require_number
-from .earth import METHODS, Backfill
-
-GAMMA_W = 9.81  # kN/m3
+from .earth import GAMMA_W, METHODS, Backfill
 
 
 def require_bool(name: str, value) -> None:
@@ -77,8 +75,9 @@ class Loads:
 @dataclass(frozen=True)
 class Water:
     """Free-water levels [m] above the base underside in front and behind the wall.
-    Uplift varies linearly under the base between the two; water behind a wall with a
-    backfill needs effective stresses in the fill (issue 21) and is refused today."""
+    Uplift varies linearly under the base between the two. Behind a cantilever or
+    gravity wall ``behind`` is the water table in the fill (effective stresses below it,
+    the water thrust a separate action; ``actions.py``)."""
 
     front: float = 0.0
     behind: float = 0.0
@@ -169,9 +168,6 @@ class DesignCase:
             raise InvalidParameter("backfill", "missing", "a [backfill] table for a cantilever or gravity wall")
         if kind != "blocks" and self.foundation is None:
             raise InvalidParameter("foundation", "missing", "a [foundation] table")
-        if self.backfill is not None and self.water.behind > 0:
-            raise InvalidParameter("water.behind", self.water.behind, "0 m with a backfill "
-                                   "(water inside the fill needs issue 21's effective stresses)")
 
     def replace_wall(self, wall) -> "DesignCase":
         from dataclasses import replace

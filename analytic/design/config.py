@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..errors import InvalidParameter
 from .blocks import BlockWall
 from .case import DesignCase, Foundation, Loads, Method, Seismic, Water
-from .earth import Backfill
+from .earth import Backfill, FillLayer
 from .walls import CantileverWall, GravityWall
 
 WALL_KEYS = {
@@ -17,7 +17,7 @@ WALL_KEYS = {
     "blocks": {"height", "base", "front_batter", "back_batter", "courses", "joint_slope", "joint_friction",
                "unit_weight", "stair_slope"},
 }
-TABLES = {"backfill": (Backfill, {"gamma", "phi", "c", "beta"}),
+TABLES = {"backfill": (Backfill, {"gamma", "phi", "c", "beta", "gamma_sat", "layers"}),
           "foundation": (Foundation, {"gamma", "phi", "c", "base_friction_ratio", "base_friction_angle",
                                       "base_adhesion", "embedment", "cu"}),
           "loads": (Loads, {"surcharge", "surcharge_permanent"}),
@@ -81,6 +81,14 @@ def _build(cls, table: str, d: dict):
     return cls(**d)
 
 
+def _layers(rows) -> tuple:
+    """``[[backfill.layers]]`` tables (thickness, gamma, phi, c, gamma_sat) from the top."""
+    if not isinstance(rows, list):
+        raise InvalidParameter("backfill.layers", str(rows), "an array of tables ([[backfill.layers]])")
+    keys = {"thickness", "gamma", "phi", "c", "gamma_sat"}
+    return tuple(_build(FillLayer, "backfill.layers", _known("backfill.layers", r, keys)) for r in rows)
+
+
 def case_from_dict(data: dict) -> DesignCase:
     """The whole DesignCase from a parsed WALL.toml."""
     for k in data:
@@ -92,7 +100,10 @@ def case_from_dict(data: dict) -> DesignCase:
     made = {}
     for name, (cls, keys) in TABLES.items():
         if name in data:
-            made[name] = _build(cls, name, _known(name, data[name], keys))
+            d = _known(name, data[name], keys)
+            if name == "backfill" and "layers" in d:
+                d["layers"] = _layers(d["layers"])
+            made[name] = _build(cls, name, d)
     made.setdefault("backfill", None)
     made.setdefault("foundation", None)
     return DesignCase(wall, **made)

@@ -1,12 +1,13 @@
 """The one earth-pressure interface of the design checks: ``design_thrust``.
 
 Every check asks this module for the thrust of the fill on a ``WallBack`` and gets its
-parts (soil, surcharge, seismic increment) as forces with a point of application.
-Today it wraps the closed forms of ``analytic/`` (Rankine, Coulomb, Mononobe-Okabe) for
-a dry, cohesionless fill and a uniform surcharge. Issue 21 (c-phi soils, water table,
-layers, EN 1997-1 Annex C) plugs in at ``_active_parts``: a new ``method`` name there,
-or cohesion / water passed through ``Backfill``, returning more ``ThrustPart`` records
-(e.g. a 'water' part); nothing else in ``analytic/design`` changes.
+parts (soil, surcharge, water, seismic increment) as forces with a point of application.
+A dry, cohesionless fill under Rankine or Coulomb takes the closed forms of
+``analytic/classical.py`` (``_active_parts``); a cohesive fill, a water table in the
+fill or EN 1997-1 Annex C take ``analytic.ground.earth_pressure`` (``_ground_parts``):
+effective stresses below the water table (gamma_sat - gamma_w), Bell's cohesion term
+with the tension crack not counted (Rankine), EN 1997-1 C.1 K_ac with a = 0 (Coulomb),
+Annex C.2 K_gamma, K_q, K_c (ec7-annex-c), and the water pressure as its own part.
 
 Units: kN/m3, kPa, m, degrees; forces in kN per metre run. Sign: ``Ph`` > 0 pushes the
 wall toward its front (away from the fill), ``Pv`` > 0 acts downward on the wall.
@@ -18,29 +19,85 @@ import math
 from dataclasses import dataclass, field
 
 from ..classical import coulomb_coefficient, rankine_coefficient
-from ..errors import InvalidParameter
-from ..inputs import require_number
+from ..errors import InvalidParameter, NotApplicable
+from ..ground import Ground, Layer, earth_pressure
+from ..inputs import Wall, require_number
 from ..seismic import mononobe_okabe_coefficient
 from .walls import WallBack
 
 METHODS = ("rankine-virtual-back", "coulomb", "ec7-annex-c")
+GROUND_METHODS = {"rankine-virtual-back": "rankine", "coulomb": "coulomb", "ec7-annex-c": "ec7-annex-c"}
+GAMMA_W = 9.81  # kN/m3
+
+
+def check_soil(table: str, soil) -> None:
+    """gamma > 0 [kN/m3], phi in (0, 50] [deg], c >= 0 [kPa], gamma_sat >= gamma_w."""
+    require_number(f"{table}.gamma", soil.gamma, 0.0, None, unit="kN/m3")
+    require_number(f"{table}.phi", soil.phi, 0.0, 50.0, hi_open=False, unit="deg")
+    require_number(f"{table}.c", soil.c, 0.0, None, lo_open=False, unit="kPa")
+    if soil.gamma_sat is not None:
+        require_number(f"{table}.gamma_sat", soil.gamma_sat, GAMMA_W, None, lo_open=False, unit="kN/m3")
+
+
+@dataclass(frozen=True)
+class FillLayer:
+    """A layer of the fill above the ``Backfill`` soil: thickness [m] down the back from
+    the fill surface (or from the layer above), gamma, gamma_sat [kN/m3], phi [deg] in
+    (0, 50], c [kPa] (effective c')."""
+
+    thickness: float
+    gamma: float
+    phi: float
+    c: float = 0.0
+    gamma_sat: float | None = None
+
+    def __post_init__(self):
+        require_number("backfill.layers.thickness", self.thickness, 0.0, None, unit="m")
+        check_soil("backfill.layers", self)
+
+    @property
+    def gamma_wet(self) -> float:
+        """Unit weight below the water table [kN/m3]."""
+        return self.gamma if self.gamma_sat is None else self.gamma_sat
 
 
 @dataclass(frozen=True)
 class Backfill:
     """Fill behind (or soil in front of) the wall: gamma [kN/m3], phi [deg] in (0, 50],
-    c [kPa] (active: only 0 until issue 21), beta [deg] surface slope, + rising away
-    from the wall."""
+    c [kPa] (effective c'), beta [deg] surface slope, + rising away from the wall;
+    gamma_sat [kN/m3] below a water table (default: gamma); layers: ``FillLayer``
+    records from the fill surface down, above this soil, which reaches the base."""
 
     gamma: float
     phi: float
     c: float = 0.0
     beta: float = 0.0
+    gamma_sat: float | None = None
+    layers: tuple = ()
+
+    gamma_wet = FillLayer.gamma_wet
+
+    @property
+    def cohesive(self) -> bool:
+        """c' > 0 in any layer."""
+        return any(x.c > 0 for x in (self, *self.layers))
+
+    def strata(self, H: float) -> list:
+        """(depth of the top, depth of the bottom [m], soil) down a back of height H [m]:
+        the layers, cut at H, then this soil down to H."""
+        out, z = [], 0.0
+        for x in (*self.layers, self):
+            bot = H if x is self else min(z + x.thickness, H)
+            if bot > z:
+                out.append((z, bot, x))
+            z = bot
+        return out
 
     def __post_init__(self):
-        require_number("backfill.gamma", self.gamma, 0.0, None, unit="kN/m3")
-        require_number("backfill.phi", self.phi, 0.0, 50.0, hi_open=False, unit="deg")
-        require_number("backfill.c", self.c, 0.0, None, lo_open=False, unit="kPa")
+        check_soil("backfill", self)
+        if not all(isinstance(x, FillLayer) for x in self.layers):
+            raise InvalidParameter("backfill.layers", len(self.layers), "tables with thickness, gamma, phi "
+                                   "(and c, gamma_sat)")
         if abs(self.beta) > self.phi:
             raise InvalidParameter("backfill.beta", self.beta, f"[-phi, phi] = [{-self.phi:g}, {self.phi:g}] deg",
                                    "no active wedge on a slope steeper than phi")
@@ -49,8 +106,9 @@ class Backfill:
 @dataclass(frozen=True)
 class ThrustPart:
     """One part of a thrust: resultant P [kN/m], components Ph (toward the front) and
-    Pv (down) [kN/m], point of application (x, y) [m]; ``kind`` 'soil', 'surcharge' or
-    'seismic' (the dynamic increment of the soil and surcharge thrust)."""
+    Pv (down) [kN/m], point of application (x, y) [m]; ``kind`` 'soil', 'surcharge',
+    'water' (normal to the back) or 'seismic' (the dynamic increment of the soil and
+    surcharge thrust)."""
 
     name: str
     kind: str
@@ -85,15 +143,18 @@ class Thrust:
 
 def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float = 0.0,
                   delta: float | None = None, kh: float = 0.0, kv: float = 0.0,
-                  increment_height: float = 0.5) -> Thrust:
+                  increment_height: float = 0.5, water_level: float = 0.0) -> Thrust:
     """Active thrust of ``backfill`` on ``back`` [kN/m] and where it acts.
 
     method: 'rankine-virtual-back' (Rankine 1857 for a sloping surface, parallel to the
     surface, on a vertical back), 'coulomb' (Mueller-Breslau form, at delta to the face
     normal; delta defaults to beta on a virtual back, where Coulomb with delta = beta is
-    Rankine), 'ec7-annex-c' (issue 21). q: uniform surcharge [kPa] per horizontal area,
-    its thrust K q H cos(beta) cos(omega) / cos(omega - beta) at mid-height.
+    Rankine), 'ec7-annex-c' (EN 1997-1 Annex C.2, eqs. C.3-C.9: normal components,
+    shear at delta). q: uniform surcharge [kPa] per horizontal area, its thrust
+    K q H cos(beta) cos(omega) / cos(omega - beta) at mid-height.
     Soil thrust 0.5 K gamma H^2 at H/3 (linear distribution, the usual convention).
+    Cohesion c > 0, a water table ``water_level`` [m] above the back's bottom, or
+    Annex C: ``analytic.ground.earth_pressure`` (see ``_ground_parts``).
     kh > 0: Mononobe-Okabe (EN 1998-5 Annex E, E.2-E.4) with kv > 0 upward; total
     0.5 gamma H^2 (1 - kv) K_AE; the increment over the static thrust acts at
     ``increment_height`` x H above the back's bottom (default 0.5: mid-height, the usual
@@ -101,22 +162,22 @@ def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float =
     checked against the text, hence a setting; the static part stays at H/3)."""
     if method not in METHODS:
         raise InvalidParameter("method.earth_pressure", method, " | ".join(METHODS))
-    if method == "ec7-annex-c":
-        raise InvalidParameter("method.earth_pressure", method, "'rankine-virtual-back' or 'coulomb' "
-                               "(EN 1997-1 Annex C comes with issue 21)")
-    if backfill.c > 0:
-        raise InvalidParameter("backfill.c", backfill.c, "0 kPa until issue 21 (c-phi active thrust)")
     if method == "rankine-virtual-back" and not back.virtual:
-        raise InvalidParameter("method.earth_pressure", method, "'coulomb' on a real back")
+        raise InvalidParameter("method.earth_pressure", method, "'coulomb' or 'ec7-annex-c' on a real back")
     d = backfill.beta if delta is None or method == "rankine-virtual-back" else delta
     if abs(d) > backfill.phi + 1e-12:
         raise InvalidParameter("method.wall_friction", d, f"[-phi, phi] = [{-backfill.phi:g}, {backfill.phi:g}] deg")
+    if not 0.0 <= water_level <= back.height + 1e-9:
+        raise InvalidParameter("water.behind", water_level, f"[0, {back.height:g}] m (up to the fill surface "
+                               "at the back)")
+    if backfill.cohesive or water_level > 0 or method == "ec7-annex-c" or backfill.layers:
+        return _ground_parts(backfill, back, method, q, d, water_level, kh, kv, increment_height)
     return _active_parts(backfill, back, method, q, d, kh, kv, increment_height)
 
 
 def _active_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: float,
                   kh: float, kv: float, inc: float) -> Thrust:
-    """Closed-form K, then the parts. Issue 21's cohesion, water and Annex C go here."""
+    """Closed-form K for a dry cohesionless fill, then the parts."""
     phi, b, om, dl = (math.radians(a) for a in (fill.phi, fill.beta, back.omega, delta))
     if method == "rankine-virtual-back":
         K = rankine_coefficient(phi, b)
@@ -132,17 +193,67 @@ def _active_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: 
         parts.append(_part(back, "surcharge thrust", "surcharge", K * q * H * surf, horiz, vert, 0.5))
     K_total = K
     if kh > 0 or kv != 0:
-        K_AE = mononobe_okabe_coefficient(phi, dl, om, b, kh, kv)
-        if not math.isfinite(K_AE):
-            lim = (1 - kv) * math.tan(phi - b)
-            raise InvalidParameter("seismic.kh", kh, f"[0, (1 - kv) tan(phi - beta)] = [0, {lim:.4g}]",
-                                   "no active Mononobe-Okabe wedge")
-        ratio = (1 - kv) * K_AE / K - 1.0
-        static = sum(p.P for p in parts)
-        parts.append(_part(back, "seismic increment", "seismic", ratio * static, horiz, vert, inc))
-        K_total = (1 - kv) * K_AE
+        parts.append(_seismic_increment(fill, back, K, parts, dl, kh, kv, inc))
+        K_total = (1 - kv) * mononobe_okabe_coefficient(phi, dl, om, b, kh, kv)
     return Thrust(method, K_total, K_total * horiz, math.degrees(dl), tuple(parts),
                   notes=f"delta = {delta:g} deg on the {'virtual' if back.virtual else 'real'} back", back=back)
+
+
+def _seismic_increment(fill: Backfill, back: WallBack, K: float, static: list, dl: float,
+                       kh: float, kv: float, inc: float) -> ThrustPart:
+    """Mononobe-Okabe increment over the static thrust ``static`` (soil and surcharge
+    parts, coefficient K along the thrust): ((1 - kv) K_AE / K - 1) x static, at ``inc``
+    x H (EN 1998-5 Annex E, E.2-E.4)."""
+    phi, b, om = (math.radians(a) for a in (fill.phi, fill.beta, back.omega))
+    K_AE = mononobe_okabe_coefficient(phi, dl, om, b, kh, kv)
+    if not math.isfinite(K_AE):
+        lim = (1 - kv) * math.tan(phi - b)
+        raise InvalidParameter("seismic.kh", kh, f"[0, (1 - kv) tan(phi - beta)] = [0, {lim:.4g}]",
+                               "no active Mononobe-Okabe wedge")
+    ratio = (1 - kv) * K_AE / K - 1.0
+    total = sum(p.P for p in static)
+    return _part(back, "seismic increment", "seismic", ratio * total, math.cos(dl + om), math.sin(dl + om), inc)
+
+
+def _ground_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: float, water_level: float,
+                  kh: float, kv: float, inc: float) -> Thrust:
+    """Soil, surcharge and water parts from ``analytic.ground.earth_pressure`` (the
+    strata of the fill; kN -> N). Each effective part acts at delta (beta for Rankine) to
+    the face normal, P = N / cos(delta); the water part is normal to the face. Seismic
+    (Mononobe-Okabe) only for a dry, uniform, cohesionless fill (Annex C static thrust,
+    same ratio rule)."""
+    if (kh > 0 or kv != 0) and (fill.cohesive or water_level > 0 or fill.layers):
+        raise InvalidParameter("seismic.alpha", kh, "0 with a cohesive, submerged or layered fill",
+                               "Mononobe-Okabe is applied to a dry, uniform, cohesionless fill only")
+    H = back.height
+    layers = tuple(Layer(b - t, x.phi, x.gamma * 1e3, x.c * 1e3, None if x.gamma_sat is None else x.gamma_sat * 1e3)
+                   for t, b, x in fill.strata(H))
+    ground = Ground(layers, water_depth=H - water_level if water_level > 0 else None)
+    wall = Wall(H, delta_deg=delta, omega_deg=back.omega, beta_deg=fill.beta, surcharge=q * 1e3)
+    try:
+        prof = earth_pressure(ground, wall, GROUND_METHODS[method])
+    except NotApplicable as err:
+        raise InvalidParameter("method.earth_pressure", method, "ec7-annex-c for this back and fill",
+                               f"{err.name} = {err.value:g}: {err.why}") from None
+    d, om = math.radians(prof.direction_deg), math.radians(back.omega)
+    parts = []
+    for key, name, ang in (("soil", "earth thrust", d), ("surcharge", "surcharge thrust", d),
+                           ("water", "water thrust", 0.0)):
+        p = prof.parts[key]
+        if p.N > 0:
+            P = float(p.N) / 1e3 / math.cos(ang)
+            x, y = back.point_at(back.y0 + float(p.height))
+            parts.append(ThrustPart(name, "soil" if key == "soil" else key, P, P * math.cos(ang + om),
+                                    P * math.sin(ang + om), x, y))
+    K = float(prof.K_layers[0])
+    K_total = K
+    if kh > 0 or kv != 0:
+        parts.append(_seismic_increment(fill, back, K, parts, d, kh, kv, inc))
+        K_total = (1 - kv) * mononobe_okabe_coefficient(math.radians(fill.phi), d, om, math.radians(fill.beta),
+                                                       kh, kv)
+    notes = f"delta = {delta:g} deg on the {'virtual' if back.virtual else 'real'} back; {prof.source}"
+    return Thrust(method, K_total, K_total * math.cos(d + om), prof.direction_deg, tuple(parts),
+                  notes="; ".join(x for x in (notes, prof.notes) if x), back=back)
 
 
 def _part(back: WallBack, name: str, kind: str, P: float, horiz: float, vert: float,

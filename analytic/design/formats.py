@@ -77,7 +77,8 @@ def _bearing(case: DesignCase, combo: Combination, V: float, H: float, e: float)
     """Drained (and undrained, with cu) bearing checks for one design resultant. With
     water in front above the base underside the drained check uses effective stresses:
     q' = gamma D - gamma_w min(h_w, D) and gamma' = gamma - gamma_w below the base (the
-    uplift is already among the actions)."""
+    uplift is already among the actions); water behind a cantilever or gravity wall
+    (uplift under the base) also takes gamma' below the base."""
     f, m, r = case.foundation, combo.materials, combo.resistances
     B = case.wall.B
     out = []
@@ -85,7 +86,8 @@ def _bearing(case: DesignCase, combo: Combination, V: float, H: float, e: float)
         return [make_check("bearing", max(V, 1.0), 0.0, "resultant outside the base")], 0.0, 0.0
     g, hw = f.gamma / m["gamma"], case.water.front
     q0 = g * f.embedment - GAMMA_W * min(hw, f.embedment)        # effective overburden q'
-    g_eff = g - GAMMA_W if hw > 0 else g                          # submerged below a flooded base
+    wet = hw > 0 or (case.water.behind > 0 and case.wall.kind != "blocks")
+    g_eff = g - GAMMA_W if wet else g                             # submerged below a flooded base
     b = bearing_resistance(phi=design_angle(f.phi, m["phi"]), c=f.c / m["c"], gamma=max(g_eff, 1e-9),
                            q=max(q0, 0.0), B=B, V=V, H=abs(H), e=e)
     out.append(make_check("bearing", V, b.R / r["bearing"], f"EN 1997-1 D.4, B' = {b.B_eff:.3f} m"))

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 
+from .actions import uses_virtual_back
 from .case import DesignCase
 from .formats import FormatResult, factors_of_safety
 
@@ -29,9 +30,9 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
             out.append("fill: Coulomb on the inner face above each joint, delta = wall_friction or 2/3 phi")
     else:
         out.append(f"earth pressure: {m.earth_pressure}, on the "
-                   + ("real back" if m.earth_pressure == "coulomb" and case.wall.kind == "gravity"
-                      and case.wall.polygon is None else "virtual back through the heel (fill above the heel "
-                      "moves with the wall)"))
+                   + ("virtual back through the heel (fill above the heel moves with the wall)"
+                      if uses_virtual_back(case) else "real back"))
+        out += _ground_conventions(case)
     out.append("permanent actions: " + ("single source, every one x gamma_G,unfav (EN 1997-1 2.4.2(9)P Note 1)"
                                         if m.single_source else "each favourable or unfavourable by its own "
                                         "effect on the check"))
@@ -43,7 +44,9 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
     if fnd is not None:
         out.append("bearing: EN 1997-1 Annex D, B' = B - 2e, load inclined along B, no depth factors "
                    "(Annex D has none)" + ("; the base's counter-slope neglected" if blocks else "")
-                   + ("; effective q' and gamma' under water" if case.water.front > 0 else ""))
+                   + ("; effective q' and gamma' under water" if case.water.front > 0 else "")
+                   + ("; gamma' below the base (uplift from the water behind)"
+                      if case.water.behind > 0 and case.water.front == 0 and not blocks else ""))
         out.append("eccentricity: " + ("middle third, e <= B/6" if fmt == "fs" else
                                        "middle two thirds, e <= B/3 (EN 1997-1 6.5.4)"))
     if fmt == "seismic":
@@ -52,6 +55,26 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
                    f"Mononobe-Okabe, dynamic increment at {s.increment_height:g} H, static part at H/3")
     if fnd is not None:
         out.append(f"base friction delta_b = {fnd.delta_b:.4g} deg, tan(delta_b,d) = tan(delta_b) / gamma_phi")
+    return out
+
+
+def _ground_conventions(case: DesignCase) -> list[str]:
+    """Sentences on cohesion and water behind a cantilever or gravity wall."""
+    out = []
+    if case.backfill.cohesive:
+        out.append("cohesion: c'_d = c' / gamma_c'; " + (
+            "Rankine-Bell, the tension crack (negative active stress) not counted"
+            if case.method.earth_pressure == "rankine-virtual-back" else
+            "EN 1997-1 C.1 K_ac = 2 sqrt(K cos delta) (no adhesion), tension not counted"
+            if case.method.earth_pressure == "coulomb" else
+            "EN 1997-1 Annex C K_c, tension not counted"))
+    if case.backfill.layers:
+        out.append(f"layered fill: {len(case.backfill.layers)} layer(s) over the [backfill] soil, K per layer, "
+                   "sigma'_v continuous across the interfaces, K printed: the top layer's")
+    if case.water.behind > 0:
+        out.append(f"water table in the fill {case.water.behind:g} m above the base underside: effective "
+                   "stresses (gamma_sat - gamma_w) below it, the water thrust a separate permanent action, "
+                   "fill over the heel at gamma_sat, uplift linear from the toe to the heel")
     return out
 
 

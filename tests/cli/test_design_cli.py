@@ -95,8 +95,11 @@ BAD = [
     ("negative toe", WALL.replace("toe = 1.2", "toe = -1.2"), "wall.toe"),
     ("unknown key", WALL.replace("c = 0\nbeta", "cohesion = 0\nbeta"), "backfill.cohesion"),
     ("unknown table", WALL + "[extra]\na = 1\n", "extra"),
-    ("backfill cohesion before issue 21", WALL.replace("c = 0\nbeta", "c = 5\nbeta"), "backfill.c"),
-    ("annex C before issue 21", WALL.replace('"rankine-virtual-back"', '"ec7-annex-c"'), "earth_pressure"),
+    ("negative backfill cohesion", WALL.replace("c = 0\nbeta", "c = -5\nbeta"), "backfill.c"),
+    ("unknown earth-pressure method", WALL.replace('"rankine-virtual-back"', '"log-spiral"'), "earth_pressure"),
+    ("gamma_sat below gamma_w", WALL.replace("c = 0\nbeta", "c = 0\ngamma_sat = 9\nbeta"), "backfill.gamma_sat"),
+    ("water above the fill", WALL + "[water]\nbehind = 7.0\n", "water.behind"),
+    ("cohesion on a sloping Rankine fill", WALL.replace("c = 0\nbeta = 0", "c = 5\nbeta = 10"), "earth_pressure"),
     ("not a boolean", WALL.replace("surcharge_permanent = false", 'surcharge_permanent = "no"'),
      "surcharge_permanent"),
     ("missing key", WALL.replace("gamma = 18\nphi = 32", "phi = 32"), "backfill.gamma"),
@@ -180,3 +183,40 @@ def test_design_replaced_factors(tmp_path, capsys):
     bad = write(tmp_path, text.replace("[combinations.DA2]", "[combinations.XX]"), "bad.toml")
     assert main(["design", wall, "--format", "DA2", "--factors", bad]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_design_cohesive_fill_and_water_table(tmp_path, capsys):
+    """A cohesive fill with a water table through the command line: the numbers of the
+    API (checked by hand in tests/analytic/design/test_design_ground.py) and the
+    conventions it followed."""
+    from analytic.design import factors_of_safety, load_factors, verify
+    from analytic.design.config import case_from_dict
+    import tomllib
+    text = (WALL.replace("c = 0\nbeta", "c = 5\ngamma_sat = 20\nbeta")
+            .replace('"rankine-virtual-back"', '"ec7-annex-c"') + "[water]\nbehind = 2.7\n")
+    assert main(["design", write(tmp_path, text), "--format", "fs", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    fs = factors_of_safety(verify(case_from_dict(tomllib.loads(text)), load_factors(), "fs"))
+    assert out["fs"]["sliding"] == pytest.approx(fs["sliding"], rel=1e-12)
+    assert any("water table in the fill 2.7 m" in c for c in out["conventions"])
+    assert any("Annex C K_c" in c for c in out["conventions"])
+
+
+def test_design_layered_fill_toml(tmp_path, capsys):
+    """[[backfill.layers]] from the top, the [backfill] soil below them: the numbers of
+    test_cantilever_layered_fill_factors_of_safety_by_hand (FS sliding 2.0793)."""
+    text = WALL.replace("c = 0\nbeta = 0", "c = 5\nbeta = 0") + (
+        "[[backfill.layers]]\nthickness = 2.0\ngamma = 16\nphi = 28\n")
+    assert main(["design", write(tmp_path, text), "--format", "fs", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["fs"]["sliding"] == pytest.approx(2.0793, abs=1e-4)
+    bad = text.replace("thickness = 2.0", "thickness = -2.0")
+    assert main(["design", write(tmp_path, bad)]) == 2
+    assert "backfill.layers.thickness" in capsys.readouterr().err
+
+
+def test_design_seismic_refuses_cohesive_fill(tmp_path, capsys):
+    text = WALL.replace("c = 0\nbeta", "c = 5\nbeta") + "[seismic]\nalpha = 0.2\n"
+    assert main(["design", write(tmp_path, text), "--format", "seismic"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "seismic.alpha" in err[0]
