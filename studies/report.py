@@ -213,3 +213,9 @@ def theory_row(name: str, profile, note: str = "", *, height_over_H: float | Non
     return {"name": name, "K": profile.Kh,
             "resultant_height_over_H": profile.height_over_H if height_over_H is None else height_over_H,
             "note": note}
+
+
+def reduced_size_line(size: str, here: str, full: str, source: str) -> str:
+    """The one line a reduced run prints: its size, what it read, and what the
+    full-size validation read for the same case (``source`` names the report)."""
+    return f"reduced size: {size}; here {here}; at full size {full} ({source})"

@@ -12,6 +12,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from ..options import number, output_file, output_folder
+from ..report import reduced_size_line
 from ..study import Command, Option, Study
 
 
@@ -43,10 +44,12 @@ def scale_note(case, result: dict) -> str | None:
         return None
     full = STUDY.reference()["wallsim_full_size"]
     d = result["dem"]
-    return (f"reduced size: grains {case.particles_scale:g} x the paper's ({result['particles']} disks); here K0 "
-            f"{d['K_at_rest_upper_half_over_jaky']:.2f} x Jaky and active thrust {d['active_thrust_over_rankine']:.2f}"
-            f" x Rankine, at full size ({full['particles']} disks) {full['K_at_rest_upper_half_over_jaky']:.2f} and "
-            f"{full['active_thrust_over_rankine']:.2f} ({full['source']})")
+    return reduced_size_line(
+        f"grains {case.particles_scale:g} x the paper's ({result['particles']} disks)",
+        f"K0 {d['K_at_rest_upper_half_over_jaky']:.2f} x Jaky and active thrust {d['active_thrust_over_rankine']:.2f} "
+        "x Rankine",
+        f"({full['particles']} disks) {full['K_at_rest_upper_half_over_jaky']:.2f} and "
+        f"{full['active_thrust_over_rankine']:.2f}", full["source"])
 
 
 def _compare_text(res: dict):

@@ -14,6 +14,7 @@ from types import SimpleNamespace
 from analytic.errors import InvalidParameter
 
 from ..options import RECORDING, count, output_folder
+from ..report import reduced_size_line
 from ..study import Command, Option, Study
 
 MODES = ("T", "RB", "RT", "mixed")
@@ -59,10 +60,11 @@ def scale_note(case, result: dict) -> str | None:
     full = ref["wallsim_paper_scale"][wall]
     mode = case.movement.mode
     d = result["dem"]
-    return (f"reduced size: {result['particles']} spheres (paper ~{ref['specimen']['particles']:,}); here K "
-            f"{d['K']:.3f}, h/H {d['resultant_height_over_H']:.3f}; at paper scale ({full['particles']} spheres) "
-            f"{mode} {wall}: K {full[mode]['K']:.3f}, h/H {full[mode]['resultant_height_over_H']:.3f} "
-            f"({ref['wallsim_paper_scale']['source']})")
+    return reduced_size_line(
+        f"{result['particles']} spheres (paper ~{ref['specimen']['particles']:,})",
+        f"K {d['K']:.3f}, h/H {d['resultant_height_over_H']:.3f}",
+        f"({full['particles']} spheres) {mode} {wall}: K {full[mode]['K']:.3f}, "
+        f"h/H {full[mode]['resultant_height_over_H']:.3f}", ref["wallsim_paper_scale"]["source"])
 
 
 def _compare_text(result: dict):
