@@ -528,6 +528,7 @@ def _version() -> str:
 
 
 EXIT_INTERRUPTED = 130        # 128 + SIGINT, as a shell reports it
+EXIT_BROKEN_PIPE = 141        # 128 + SIGPIPE
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -541,6 +542,16 @@ def main(argv: list[str] | None = None) -> int:
         from studies.runner import interrupted_line
         sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv))}\n")
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        return _reader_went_away()
+
+
+def _reader_went_away() -> int:
+    """stdout's reader closed early (``wallsim ... --json | head``): no traceback; point
+    stdout at /dev/null so the final flush cannot fail again, exit as a shell would."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    return EXIT_BROKEN_PIPE
 
 
 def _resume_command(argv: list[str] | None) -> str | None:
@@ -563,7 +574,10 @@ def entry() -> None:
     (40k disks in contact: 60 s). Every file and recording is written and closed by
     then (viz.recorder flushes and disconnects), so nothing is lost by skipping it."""
     code = main()
-    sys.stdout.flush()
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        code = _reader_went_away()
     sys.stderr.flush()
     os._exit(code)
 
