@@ -6,7 +6,8 @@ Stages (each a function; the CLI strings them together):
 1. ``prepare_specimen``: generate bodies loosely above the box, rain them under gravity
    (optionally with a lower "deposition" friction, a standard way to densify), trim to
    the wall height, restore the particle friction, settle; report porosity, at-rest K,
-   resultant_height_over_H and wall load. The settled state is cached so all modes start from it.
+   the resultant's height and the wall load. The settled state is cached so all modes
+   start from it.
 2. ``move_wall``: translate or rotate the wall quasi-statically to Delta/H; yields the
    load history (K, resultant_height_over_H, segment stresses) and frames for the recording.
 3. ``theory_rows``: Coulomb, Rankine, DSM for the mode, the paper's DEM, Fang & Ishibashi.
@@ -784,7 +785,8 @@ def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_fram
     def save(state):
         hist = {"hist.disp": [s.wall_disp_over_H for s in samples], "hist.time": [s.time for s in samples],
                 "hist.step": [s.step for s in samples], "hist.K": [s.K for s in samples],
-                "hist.resultant_height_over_H": [s.resultant_height_over_H for s in samples], "hist.normal": [s.thrust_kN for s in samples],
+                "hist.resultant_height_over_H": [s.resultant_height_over_H for s in samples],
+                "hist.normal": [s.thrust_kN for s in samples],
                 "hist.seg": np.array([s.segment_stress for s in samples])}
         atomic_write(checkpoint_path, npz_bytes({**state, **{k: np.asarray(v) for k, v in hist.items()}}))
 

@@ -255,9 +255,8 @@ def _markdown_wall(wall: str, e: dict, git: str, figures_dir: Path | None) -> li
     L = [f"## {wall.capitalize()} wall", "",
          f"Specimen: {s['particles']} spheres ({s['bodies']} bodies), seed {s['seed']}, dt {s['dt_s']:.2e} s, "
          f"porosity **{s['porosity']:.3f}** (paper ~0.35), at-rest K **{s['K_at_rest']:.3f}** (paper 0.385; "
-         f"target window {_window('K_at_rest_window')}), resultant_height_over_H {s['resultant_height_over_H_at_rest']:.3f} (paper 0.323), "
-         f"at-rest load "
-         f"{s['thrust_at_rest_kN_per_0.5m']:.1f} kN per 0.5 m (paper ~15.4)"
+         f"target window {_window('K_at_rest_window')}), resultant at {s['resultant_height_over_H_at_rest']:.3f} H "
+         f"(paper 0.323), at-rest load {s['thrust_at_rest_kN_per_0.5m']:.1f} kN per 0.5 m (paper ~15.4)"
          + (f", prepared in {s['wall_time_s'] / 60:.1f} min." if s.get("wall_time_s") else " (cached)."), "",
          "| mode | DEM K | paper K | DEM h/H | paper h/H | within tol. | steady by Delta/H | wall time | git |",
          "|---|---|---|---|---|---|---|---|---|"]
