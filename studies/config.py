@@ -135,41 +135,74 @@ def _resolve(case, dotted: str, raw=None):
 
 def set_value(case, key: str, raw):
     """Return a copy of ``case`` with ``key`` set to ``raw`` (coerced to the field type)."""
-    key = current_name(key)
-    hit = _resolve(case, key, raw)
-    if hit is None:
-        raise InvalidParameter(key, raw, "a key of this case", "unknown key; `wallsim keys <study>` lists them")
-    path, name = hit
-
-    def rebuild(node, remaining):
-        if not remaining:
-            typ = _field_types(type(node))[name]
-            try:
-                return dataclasses.replace(node, **{name: _coerce(key, raw, typ)})
-            except InvalidParameter as err:
-                if err.name != key and err.name == name:
-                    raise InvalidParameter(key, err.value, err.valid, err.why) from None
-                raise
-        head = remaining[0]
-        return dataclasses.replace(node, **{head: rebuild(getattr(node, head), remaining[1:])})
-
-    return rebuild(case, path)
+    return apply_overrides(case, [(key, raw)])
 
 
-def apply_sets(case, sets: list[str] | None):
-    """Apply ``--set key=value`` strings in order."""
+def apply_overrides(case, items) -> object:
+    """``case`` with every (key, raw value) of ``items`` applied at once, later items
+    winning: each record is rebuilt once with all its changes, so a check that spans
+    fields (d_min <= d_max, H <= box height, enough particles for the grains) sees the
+    final values whatever the order of the keys in a file or on the command line."""
+    changes: dict[tuple, dict] = {}
+    for key, raw in items:
+        key = current_name(key)
+        hit = _resolve(case, key, raw)
+        if hit is None:
+            raise InvalidParameter(key, raw, "a key of this case", "unknown key; `wallsim keys <study>` lists them")
+        path, name = hit
+        node = case
+        for part in path:
+            node = getattr(node, part)
+        changes.setdefault(tuple(path), {})[name] = (key, _coerce(key, raw, _field_types(type(node))[name]))
+    return _rebuilt(case, (), changes)
+
+
+def _rebuilt(node, path: tuple, changes: dict):
+    """``node`` with its nested records rebuilt first, then its own changed fields; a
+    failing check is reported under the key the user typed for that field."""
+    kw = {}
+    for f in dataclasses.fields(node):
+        value = getattr(node, f.name)
+        if dataclasses.is_dataclass(value):
+            sub = _rebuilt(value, path + (f.name,), changes)
+            if sub is not value:
+                kw[f.name] = sub
+    own = changes.get(path, {})
+    kw |= {name: value for name, (_, value) in own.items()}
+    if not kw:
+        return node
+    try:
+        return dataclasses.replace(node, **kw)
+    except InvalidParameter as err:
+        if err.name in own and own[err.name][0] != err.name:
+            raise InvalidParameter(own[err.name][0], err.value, err.valid, err.why) from None
+        raise
+
+
+def _set_items(sets: list[str] | None) -> list[tuple[str, str]]:
+    items = []
     for item in sets or []:
         if "=" not in item:
             raise InvalidParameter("--set", item, "key=value")
         key, raw = item.split("=", 1)
-        case = set_value(case, key.strip(), raw.strip())
-    return case
+        items.append((key.strip(), raw.strip()))
+    return items
+
+
+def apply_sets(case, sets: list[str] | None):
+    """Apply ``--set key=value`` strings (all at once, the last of a key winning)."""
+    return apply_overrides(case, _set_items(sets))
 
 
 def apply_toml(case, path: str | Path):
     """Apply every key of a TOML file (tables map to nested records)."""
+    return apply_overrides(case, toml_items(read_toml(path)))
+
+
+def read_toml(path: str | Path) -> dict:
+    """A --config file as a dict, or one line naming the file and what is wrong."""
     try:
-        data = tomllib.loads(Path(path).read_text())
+        return tomllib.loads(Path(path).read_text())
     except (FileNotFoundError, IsADirectoryError, NotADirectoryError):
         raise InvalidParameter("--config", str(path), "an existing TOML file") from None
     except (PermissionError, UnicodeDecodeError) as err:
@@ -177,16 +210,13 @@ def apply_toml(case, path: str | Path):
     except tomllib.TOMLDecodeError as err:
         raise InvalidParameter("--config", str(path), "valid TOML", str(err).splitlines()[0]) from None
 
-    def walk(d, prefix=""):
-        for k, v in d.items():
-            if isinstance(v, dict):
-                yield from walk(v, prefix + k + ".")
-            else:
-                yield prefix + k, v
 
-    for key, value in walk(data):
-        case = set_value(case, key, value)
-    return case
+def toml_items(data: dict, prefix: str = "") -> list[tuple[str, object]]:
+    """(dotted key, value) of every leaf of a TOML table (tables are nested records)."""
+    out = []
+    for k, v in data.items():
+        out += toml_items(v, prefix + k + ".") if isinstance(v, dict) else [(prefix + k, v)]
+    return out
 
 
 def revalidated(case):
@@ -202,11 +232,9 @@ def resolve_case(case, *, config: str | Path | None = None, flags: dict | None =
     """The case a command runs, one precedence for every study (lowest first): the
     defaults in ``case`` < the ``config`` TOML file < ``flags`` (dotted key -> value, only
     the flags the user typed) < ``sets`` (``--set key=value``)."""
-    if config:
-        case = apply_toml(case, config)
-    for key, value in (flags or {}).items():
-        case = set_value(case, key, value)
-    return revalidated(apply_sets(case, sets))
+    items = toml_items(read_toml(config)) if config else []
+    items += list((flags or {}).items()) + _set_items(sets)
+    return revalidated(apply_overrides(case, items))
 
 
 def _field_notes(cls) -> dict[str, str]:
@@ -241,12 +269,7 @@ def setting_sources(config: str | Path | None, flags: dict | None, sets: list[st
     overwrites an earlier one): ``{"seed": "--set", "specimen.particles": "flag --particles"}``."""
     out = {}
     if config:
-        data = tomllib.loads(Path(config).read_text())
-
-        def walk(d, prefix=""):
-            for k, v in d.items():
-                yield from walk(v, prefix + k + ".") if isinstance(v, dict) else [prefix + k]
-        out |= {current_name(k): f"--config {config}" for k in walk(data)}
+        out |= {current_name(k): f"--config {config}" for k, _ in toml_items(read_toml(config))}
     out |= {k: f"flag {(flag_names or {}).get(k, '')}".rstrip() for k in (flags or {})}
     out |= {current_name(item.split("=", 1)[0].strip()): "--set" for item in sets or [] if "=" in item}
     return out

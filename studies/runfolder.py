@@ -81,9 +81,13 @@ def to_plain(obj):
 
 
 def _toml_ready(obj):
-    """TOML has no null: drop None values (they mean 'default')."""
+    """TOML has no null: None is written as "none", which the case reader turns back
+    into None (dropping it would let a field whose default is not None, such as
+    Khosravi's reading_iterations, come back at its default)."""
+    if obj is None:
+        return "none"
     if isinstance(obj, dict):
-        return {k: _toml_ready(v) for k, v in obj.items() if v is not None}
+        return {k: _toml_ready(v) for k, v in obj.items()}
     if isinstance(obj, list):
         return [_toml_ready(v) for v in obj]
     return obj
