@@ -17,8 +17,8 @@ import pytest
 import cli
 from analytic.errors import InvalidParameter
 from studies import get
-from studies.sweep import (Point, build_points, expand, group_rows, lead_indices, parse_vary, run_point, run_sweep,
-                           stats)
+from studies.sweep import (Point, build_points, expand, group_rows, lead_indices, parse_vary, result_outputs,
+                           run_point, run_sweep, stats)
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ["H=0.1", "particles_scale=5", "wall_disp_over_H_max=0.001"]
@@ -124,11 +124,26 @@ def _same(a, b) -> bool:
 
 
 def _serial(tmp_path_factory) -> list[dict]:
-    """The four good points run one by one in this process, in the sweep's order."""
-    from studies.sweep import result_outputs
+    """The four good points run one by one in this process, in the sweep's order (their
+    results as result.json holds them)."""
+    from studies.runfolder import to_plain
     study, out = get("khosravi"), tmp_path_factory.mktemp("serial")
-    return [result_outputs(study.run(b["case"], out=str(out), quiet=True))
+    return [to_plain(study.run(b["case"], out=str(out), quiet=True))
             for b in build_points(study, parse_vary(VARY), sets=TINY) if b["case"] is not None]
+
+
+def _leaves(obj, prefix=""):
+    """Every value of a result by path, but for where and how long (paths, wall times)."""
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            # scale_note: the adapter adds it to the returned dict after result.json is written
+            if k not in ("timings_s", "specimen", "run_folder", "wall_time_s", "scale_note"):
+                yield from _leaves(v, f"{prefix}.{k}")
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            yield from _leaves(v, f"{prefix}[{i}]")
+    else:
+        yield prefix, obj
 
 
 @pytest.fixture(scope="module")
@@ -144,10 +159,15 @@ def test_sweep_gives_the_serial_numbers_bit_for_bit(swept, client, tmp_path_fact
     done = [p for p in table["points"] if p["status"] == "done"]
     assert len(done) == 4
     serial = _serial(tmp_path_factory)
-    names = list(serial[0])
+    names = list(result_outputs(serial[0]))
     assert "K_active_total" in names and "resultant_height_over_H_active" in names
-    differ = [(p["point"], n, p[n], s[n]) for p, s in zip(done, serial) for n in names if not _same(p[n], s[n])]
+    differ = [(p["point"], n) for p, s in zip(done, serial) for n in names if not _same(p[n], result_outputs(s)[n])]
     assert differ == []
+    for p, s in zip(done, serial):          # the whole result (readings, profiles, theories), not only the table
+        swept_result = json.loads((Path(p["run_folder"]) / "result.json").read_text())
+        want, have = dict(_leaves(s)), dict(_leaves(swept_result))
+        assert len(want) > 50 and want.keys() == have.keys()
+        assert [k for k in want if not _same(want[k], have[k])] == []
     assert len({p["K_active_total"] for p in done}) == 4          # four different answers, not one copied
     for p in done:
         assert Path(p["run_folder"]).name == p["point"] and (Path(p["run_folder"]) / "result.json").is_file()
