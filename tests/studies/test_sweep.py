@@ -202,6 +202,21 @@ def test_a_rerun_skips_every_finished_point(swept, client, capsys):
 
 
 @pytest.mark.slow
+def test_ctrl_c_stops_with_one_line_and_writes_the_table(client, tmp_path, monkeypatch, capsys):
+    import dask.distributed
+
+    def interrupted(futures):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(dask.distributed, "as_completed", interrupted)
+    argv = ["sweep", "khosravi", "--vary", "wall_speed=-1,-2", "--out", str(tmp_path), "--scheduler",
+            client.scheduler.address, "--quiet"]
+    assert cli.main(argv) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("wallsim: interrupted")
+    assert len(json.loads((tmp_path / "sweep.json").read_text())["points"]) == 2
+
+
+@pytest.mark.slow
 def test_killing_a_worker_mid_sweep_still_finishes_every_point(client, tmp_path):
     killed = {}
 
