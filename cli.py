@@ -420,6 +420,51 @@ def _note_if_busy() -> None:
         sys.stderr.write(note + "\n")
 
 
+def _add_sweep(sub) -> None:
+    from studies import NAMES
+    from studies.options import output_folder
+
+    p = sub.add_parser("sweep", help="a study over the product of varied settings and seeds, on Dask",
+                       description="Every point of --vary (Cartesian product) run by the study's main command, "
+                                   "one Dask task and one run folder each under --out; sweep.csv, "
+                                   "sweep_groups.csv (mean, sd, min, max over seeds), sweep.json, sweep.png. "
+                                   "A rerun skips the points that finished.")
+    p.add_argument("study", choices=list(NAMES))
+    p.add_argument("--vary", action="append", required=True, metavar="KEY=V1,V2|KEY=A..B",
+                   help="a case key and its values (repeatable), e.g. --vary seed=1..3 --vary mode=T,RB")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
+                   help="a case field for every point (after --config, before --vary)")
+    p.add_argument("--config", metavar="FILE.toml", help="case settings for every point from a TOML file")
+    p.add_argument("--outputs", metavar="NAME,NAME", type=lambda t: [w.strip() for w in t.split(",") if w.strip()],
+                   help="outputs to tabulate and draw (default: every number of the result's 'dem' record)")
+    p.add_argument("--workers", type=_count("workers"), default=None,
+                   help="worker processes of the local cluster (the cores)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask cluster, e.g. tcp://host:8786")
+    p.add_argument("--out", default="sweeps", metavar="DIR", type=_argparse_type(output_folder("out"), "out"),
+                   help="run folders (DIR/<study>/<point>) and the sweep tables (sweeps)")
+    p.add_argument("--json", action="store_true", help="print {points, groups} as JSON on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_sweep)
+
+
+def _cmd_sweep(args) -> int:
+    from studies.sweep import parse_vary, run_sweep, sweep_text
+
+    try:
+        table = run_sweep(args.study, parse_vary(args.vary), config=args.config, sets=args.set, out=args.out,
+                          workers=args.workers, scheduler=args.scheduler, quiet=args.quiet, outputs=args.outputs)
+    except KeyboardInterrupt:
+        print(f"wallsim: interrupted; the finished points and sweep.csv are in {args.out}, and the same command "
+              "runs the rest", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    print(json.dumps(table, indent=2) if args.json else sweep_text(table))
+    failed = [p for p in table["points"] if p["status"] == "failed"]
+    for p in failed:
+        print(f"wallsim: point {p['point']} failed: {p['error']}", file=sys.stderr)
+    print(f"sweep table: {os.path.join(args.out, 'sweep.csv')}", file=sys.stderr)
+    return 1 if failed else 0
+
+
 def _add_keys(sub) -> None:
     from studies import NAMES
 
@@ -514,6 +559,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_design(sub)
     _add_bearing(sub)
     _add_studies(sub)
+    _add_sweep(sub)
     _add_keys(sub)
     _add_bench(sub)
     return parser

@@ -189,6 +189,19 @@ def _set_items(sets: list[str] | None) -> list[tuple[str, str]]:
     return items
 
 
+def case_value(case, key: str):
+    """The value of ``key`` (dotted or a unique bare name, as ``--set`` takes it) in ``case``;
+    ``InvalidParameter`` for a key the case does not have."""
+    key = current_name(key)
+    hit = _resolve(case, key)
+    if hit is None:
+        raise InvalidParameter(key, None, "a key of this case", "unknown key; `wallsim keys <study>` lists them")
+    node = case
+    for part in hit[0]:
+        node = getattr(node, part)
+    return getattr(node, hit[1])
+
+
 def apply_sets(case, sets: list[str] | None):
     """Apply ``--set key=value`` strings (all at once, the last of a key winning)."""
     return apply_overrides(case, _set_items(sets))

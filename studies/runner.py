@@ -5,6 +5,8 @@ write ``result.json`` and the manifest. A study module supplies only its stages.
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 
 from .runfolder import RunFolder
@@ -12,12 +14,27 @@ from .runfolder import RunFolder
 #: the run folder of the run in progress in this process (what an interrupt reports)
 current_folder: Path | None = None
 
+#: the folder name a sweep gives the run in this thread (``named_run``); None: date, time, seed
+_run_name: ContextVar[str | None] = ContextVar("run_name", default=None)
+
+
+@contextmanager
+def named_run(name: str):
+    """Runs opened in this block (this thread) go to ``<root>/<study>/<name>`` instead of
+    a folder named by date and time, so a sweep finds a point's run again on a rerun."""
+    token = _run_name.set(name)
+    try:
+        yield
+    finally:
+        _run_name.reset(token)
+
 
 def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | None = None,
                     name: str | None = None) -> RunFolder:
     """A new run folder with the resolved case in config.toml, or, with ``resume``, the
     interrupted run's own folder (its config.toml is the case, kept as it was)."""
     global current_folder
+    name = name if name is not None else _run_name.get()
     if resume is not None:
         folder = RunFolder.existing(resume, seed=getattr(case, "seed", None))
     else:

@@ -453,3 +453,44 @@ def _pressure_diagram(ax, thrust, scale) -> None:
         w = p.Ph / H * shape * scale * H / 2
         ax.fill_betweenx(ys, xb, xb + w, color="C1" if p.kind == "soil" else "C4", alpha=0.3, label=p.name)
         ax.plot([p.x - p.Ph * scale, p.x], [p.y - p.Pv * scale, p.y], "C1--", lw=0.6)
+
+
+def plot_sweep(groups: list[dict], keys: list[str], outputs: list[str], path, *, title: str = "") -> Path:
+    """A sweep's outputs against its first varied key, one line per value of the other
+    varied keys, the seed spread as error bars (+- one standard deviation, the range as
+    thin bars). ``groups``: rows with the keys and ``<output>_mean``/``_sd``/``_min``/``_max``
+    (studies.sweep.group_rows). Text values of the key are placed evenly."""
+    x_key, series_keys = (keys[0], keys[1:]) if keys else (None, [])
+    xs = [g[x_key] if x_key else "all" for g in groups]
+    numeric = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in xs)
+    ticks = list(dict.fromkeys(xs))
+    cols = min(3, len(outputs))
+    rows = -(-len(outputs) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.4 * rows), squeeze=False)
+    for ax, name in zip(axes.flat, outputs):
+        series: dict[tuple, list[dict]] = {}
+        for g in groups:
+            series.setdefault(tuple(g[k] for k in series_keys), []).append(g)
+        for k, (label, members) in enumerate(series.items()):
+            pts = [(g[x_key] if x_key else "all", g[f"{name}_mean"], g[f"{name}_sd"] or 0.0,
+                    g[f"{name}_min"], g[f"{name}_max"]) for g in members if g[f"{name}_mean"] is not None]
+            if not pts:
+                continue
+            x = np.array([p[0] if numeric else ticks.index(p[0]) for p in pts], dtype=float)
+            mean, sd = np.array([p[1] for p in pts]), np.array([p[2] for p in pts])
+            lo, hi = mean - np.array([p[3] for p in pts]), np.array([p[4] for p in pts]) - mean
+            ax.errorbar(x, mean, yerr=[lo, hi], fmt="none", ecolor=f"C{k % 10}", elinewidth=0.6, alpha=0.5)
+            ax.errorbar(x, mean, yerr=sd, fmt="o-" if numeric else "o", color=f"C{k % 10}", capsize=3,
+                        label=" ".join(f"{s}={v}" for s, v in zip(series_keys, label)) or None)
+        if not numeric:
+            ax.set_xticks(range(len(ticks)), [str(t) for t in ticks])
+        ax.set_xlabel(x_key or "")
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+        if series_keys:
+            ax.legend(fontsize=7)
+    for ax in list(axes.flat)[len(outputs):]:
+        ax.set_visible(False)
+    if title:
+        fig.suptitle(title)
+    return _finish(fig, path)

@@ -1,0 +1,402 @@
+"""Sweeps and seed ensembles of any registered study on dask.distributed.
+
+    from studies.sweep import parse_vary, run_sweep
+    table = run_sweep("khosravi", parse_vary(["seed=1..3", "wall_speed=0.002,0.004"]),
+                      sets=["H=0.1"], out="sweeps", workers=2)
+
+``--vary KEY=V1,V2,...`` (or ``KEY=A..B``, whole numbers, both ends included) for each
+varied key; the points are the Cartesian product. Each point's case is built as a normal
+run builds it (defaults < ``--config`` < ``--set`` < the point's values) and run by the
+study's main command, one dask task per point, into its own ordinary run folder
+``<out>/<study>/<point name>`` (named by the point's values and a hash of its case, so a
+rerun finds it and skips a point whose folder holds a result.json).
+
+Specimens: a point waits for the points that differ from it by one non-seed key set back
+to that key's first value (``lead_indices``). Whatever subset of the varied keys shapes
+the study's specimen, the points sharing one specimen then start after one of them (the
+one with every other key at its first value) has made and stored it: no two workers
+prepare the same specimen at once, and the sweep layer needs no study's specimen key.
+
+A point that raises is recorded with its one-line error; the others go on. A worker that
+dies mid-point has its point run again on another worker (the scheduler's
+``allowed-failures``, 3 by default); ``retries`` covers an exception from dask itself.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import os
+import re
+import time
+from contextlib import contextmanager, nullcontext
+from dataclasses import dataclass
+from pathlib import Path
+
+from analytic.errors import InvalidParameter
+
+_RANGE = re.compile(r"^(-?\d+)\.\.(-?\d+)$")
+_VARY_FORM = "KEY=V1,V2,... or KEY=A..B (whole numbers A <= B)"
+
+
+@dataclass(frozen=True)
+class Point:
+    """One point of a sweep: ``values`` ((key, value as typed), ...) in ``--vary`` order and
+    ``index``, the position of each value in its key's list."""
+
+    values: tuple[tuple[str, str], ...]
+    index: tuple[int, ...]
+
+    @property
+    def sets(self) -> list[str]:
+        """The point's values as ``--set KEY=VALUE`` strings (applied after the shared ones)."""
+        return [f"{k}={v}" for k, v in self.values]
+
+    def label(self) -> str:
+        return " ".join(self.sets)
+
+
+def parse_vary(items: list[str]) -> list[tuple[str, list[str]]]:
+    """``["seed=1..3", "mode=T,RB"]`` -> ``[("seed", ["1", "2", "3"]), ("mode", ["T", "RB"])]``;
+    ``InvalidParameter`` for text that is not ``KEY=V1,V2,...`` / ``KEY=A..B``, a key given
+    twice or a value repeated in one list. Values are checked when the cases are built."""
+    varied, seen = [], set()
+    for item in items:
+        key, eq, text = (s.strip() for s in item.partition("="))
+        if not eq or not key or not text:
+            raise InvalidParameter("--vary", item, _VARY_FORM)
+        values = []
+        for part in (p.strip() for p in text.split(",")):
+            m = _RANGE.match(part)
+            if m and int(m[1]) > int(m[2]):
+                raise InvalidParameter("--vary", item, _VARY_FORM, f"{part} is an empty range")
+            if not part or (".." in part and not m):
+                raise InvalidParameter("--vary", item, _VARY_FORM)
+            values += [str(v) for v in range(int(m[1]), int(m[2]) + 1)] if m else [part]
+        if key in seen:
+            raise InvalidParameter("--vary", item, "each key once", f"{key} is varied twice")
+        if len(set(values)) < len(values):
+            raise InvalidParameter("--vary", item, "distinct values", "a value is repeated")
+        seen.add(key)
+        varied.append((key, values))
+    if not varied:
+        raise InvalidParameter("--vary", None, _VARY_FORM, "nothing to vary")
+    return varied
+
+
+def expand(varied: list[tuple[str, list[str]]]) -> list[Point]:
+    """The Cartesian product of the varied values, the last key varying fastest."""
+    keys = [k for k, _ in varied]
+    ranges = [range(len(vals)) for _, vals in varied]
+    return [Point(tuple(zip(keys, (varied[i][1][j] for i, j in enumerate(idx)))), idx)
+            for idx in itertools.product(*ranges)]
+
+
+def is_seed(key: str, seed_key: str | None) -> bool:
+    """Whether a varied key is the command's seed (dotted or bare)."""
+    return seed_key is not None and key.split(".")[-1] == seed_key.split(".")[-1]
+
+
+def lead_indices(points: list[Point], seed_at: int | None) -> list[list[int]]:
+    """For each point, the points it waits for: itself with one non-seed key set back to
+    that key's first value (module docstring, "Specimens")."""
+    where = {p.index: i for i, p in enumerate(points)}
+    leads = []
+    for p in points:
+        back = [p.index[:k] + (0,) + p.index[k + 1:] for k, j in enumerate(p.index) if j > 0 and k != seed_at]
+        leads.append([where[b] for b in back])
+    return leads
+
+
+def point_name(point: Point, case) -> str:
+    """The point's run-folder name: its values, then a hash of the whole case (a rerun with
+    other shared settings makes new folders instead of skipping)."""
+    from .store import content_key
+    words = "_".join(f"{k.split('.')[-1]}{v}" for k, v in point.values)
+    return re.sub(r"[^A-Za-z0-9._=-]", "-", words)[:120] + "-" + content_key(case, 8)
+
+
+def one_line(err: BaseException) -> str:
+    """An exception as one line: an ``InvalidParameter`` as it is, else its type and first line."""
+    text = str(err).strip().splitlines()[0] if str(err).strip() else ""
+    return text if isinstance(err, InvalidParameter) else f"{type(err).__name__}: {text}".rstrip(": ")
+
+
+def numeric_leaves(obj, prefix: str = "") -> dict[str, float]:
+    """Every finite-or-NaN number (not bool) in nested dicts, by dotted name."""
+    out = {}
+    for k, v in obj.items():
+        name = f"{prefix}{k}"
+        if isinstance(v, dict):
+            out |= numeric_leaves(v, name + ".")
+        elif isinstance(v, (int, float)) and not isinstance(v, bool):
+            out[name] = float(v)
+    return out
+
+
+def result_outputs(result: dict) -> dict[str, float]:
+    """The numbers a sweep tabulates from a result: the leaves of ``result["dem"]`` when the
+    study has one (the DEM's headline figures), else the top-level numbers."""
+    if isinstance(result.get("dem"), dict):
+        return numeric_leaves(result["dem"])
+    return numeric_leaves({k: v for k, v in result.items() if not isinstance(v, dict)})
+
+
+def finished_point(out: str | Path, name: str) -> dict | None:
+    """The row of a point whose run folder under ``out`` holds a finished run, else None."""
+    import json
+    from .runner import finished_result
+    for folder in sorted(Path(out).glob(f"*/{name}")):
+        result = finished_result(folder)
+        if result is not None:
+            manifest = folder / "manifest.json"
+            wall = json.loads(manifest.read_text()).get("wall_time_s") if manifest.is_file() else None
+            return {"status": "skipped", "error": None, "outputs": result_outputs(result),
+                    "wall_time_s": wall, "run_folder": str(folder)}
+    return None
+
+
+def run_point(study: str, verb: str | None, case, name: str, out: str, *after) -> dict:
+    """One point, in a worker: run the study's command on ``case`` into ``<out>/<study
+    folder>/<name>``; a raised error becomes the row's one-line ``error``. ``after``: the
+    rows of the points this one waited for (unused; they order the tasks)."""
+    from . import get
+    from .runner import named_run
+    t0 = time.perf_counter()
+    try:
+        with named_run(name):
+            result = get(study).run(case, verb, out=str(out), quiet=True)
+    except Exception as err:          # recorded for this point; the sweep goes on
+        return {"status": "failed", "error": one_line(err), "outputs": {},
+                "wall_time_s": time.perf_counter() - t0, "run_folder": None}
+    folders = sorted(Path(out).glob(f"*/{name}"))
+    return {"status": "done", "error": None, "outputs": result_outputs(result),
+            "wall_time_s": time.perf_counter() - t0, "run_folder": str(folders[0]) if folders else None}
+
+
+def build_points(study, varied, *, config: str | None = None, sets: list[str] | None = None,
+                 verb: str | None = None) -> list[dict]:
+    """Every point with its case, before anything runs: ``{"point", "inputs", "case",
+    "name", "error"}``. An unknown varied key stops the sweep (``InvalidParameter``); a
+    value that the case refuses is that point's ``error`` (case None), the others go on."""
+    from .config import case_value
+    from .runfolder import to_plain
+    cmd = study.command(verb)
+    default = cmd.resolve(config=config, sets=sets)      # a bad --set/--config stops everything
+    for key, _ in varied:
+        try:
+            case_value(default, key)
+        except InvalidParameter as err:
+            raise InvalidParameter("--vary", key, err.valid, err.why) from None
+    rows = []
+    for p in expand(varied):
+        try:
+            case = cmd.resolve(config=config, sets=[*(sets or []), *p.sets])
+            inputs = {k: to_plain(case_value(case, k)) for k, _ in p.values}
+            rows.append({"point": p, "inputs": inputs, "case": case, "name": point_name(p, case), "error": None})
+        except InvalidParameter as err:
+            rows.append({"point": p, "inputs": dict(p.values), "case": None, "name": None, "error": str(err)})
+    return rows
+
+
+@contextmanager
+def dask_client(workers: int | None = None, scheduler: str | None = None):
+    """A dask.distributed client: of the cluster at ``scheduler`` (``tcp://host:8786``), or
+    of a new LocalCluster on this machine, ``workers`` processes (default: the cores) of
+    one thread each, numba on one thread in each (NUMBA_NUM_THREADS=1)."""
+    import logging
+    from dask.distributed import Client, LocalCluster
+    if scheduler:
+        with Client(scheduler) as client:
+            yield client
+        return
+    n = workers or os.cpu_count() or 1
+    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                      silence_logs=logging.ERROR, env={"NUMBA_NUM_THREADS": "1"}) as cluster, \
+            Client(cluster) as client:
+        yield client
+
+
+def submit_points(client, study: str, verb: str | None, built: list[dict], out: str, seed_at: int | None,
+                  retries: int = 2) -> dict:
+    """One task per point to run (not finished before, case built), each after its leads
+    (``lead_indices``) that run too. Returns {row index: future}."""
+    leads = lead_indices([b["point"] for b in built], seed_at)
+    futures = {}
+    for i, b in enumerate(built):
+        if b["case"] is None or "status" in b:
+            continue
+        after = [futures[j] for j in leads[i] if j in futures]
+        futures[i] = client.submit(run_point, study, verb, b["case"], b["name"], str(out), *after,
+                                   key=f"point-{b['name']}", retries=retries, pure=False)
+    return futures
+
+
+def run_sweep(study_name: str, varied, *, config: str | None = None, sets: list[str] | None = None,
+              out: str | Path = "sweeps", workers: int | None = None, scheduler: str | None = None,
+              client=None, quiet: bool = True, verb: str | None = None, outputs: list[str] | None = None) -> dict:
+    """Run every point of ``varied`` (``parse_vary``) of the study's main command (or
+    ``verb``) on dask; write ``sweep.json``, ``sweep.csv``, ``sweep_groups.csv`` and
+    ``sweep.png`` in ``out`` and return ``{"points": [...], "groups": [...]}`` (module
+    docstring). ``client``: an open dask client to use instead of making one."""
+    from . import get
+    from .progress import progress
+    study = get(study_name)
+    seed_key = study.command(verb).seed_key
+    built = build_points(study, varied, config=config, sets=sets, verb=verb)
+    for b in built:
+        done = finished_point(out, b["name"]) if b["case"] is not None else None
+        b.update(done or {})
+    seed_at = next((k for k, (key, _) in enumerate(varied) if is_seed(key, seed_key)), None)
+    with (nullcontext(client) if client is not None else dask_client(workers, scheduler)) as c, \
+            progress(quiet) as bar:
+        futures = submit_points(c, study_name, verb, built, str(Path(out).resolve()), seed_at)
+        task = bar.add_task(f"sweep {study_name}", total=len(built),
+                            completed=len(built) - len(futures), status="")
+        try:
+            _collect(futures, built, bar, task)
+        finally:       # Ctrl-C: the finished points are in their run folders and the table
+            table = write_tables(study_name, varied, built, out, seed_key, outputs, sets=sets, config=config)
+    return table
+
+
+def _collect(futures: dict, built: list[dict], bar, task) -> None:
+    """Fill each built row with its task's row as the tasks finish."""
+    from dask.distributed import as_completed
+    index = {f.key: i for i, f in futures.items()}
+    try:
+        for fut in as_completed(list(futures.values())):
+            try:
+                row = fut.result()
+            except Exception as err:        # the task itself failed (a worker died too often)
+                row = {"status": "failed", "error": one_line(err), "outputs": {}, "wall_time_s": None,
+                       "run_folder": None}
+            built[index[fut.key]].update(row)
+            failed = sum(b.get("status") == "failed" or b["case"] is None for b in built)
+            bar.advance(task)
+            bar.update(task, status=f"{failed} failed" if failed else "")
+    except BaseException:
+        for fut in futures.values():
+            fut.cancel()
+        raise
+
+
+def stats(values: list[float]) -> dict:
+    """n, mean, sample standard deviation (n - 1 in the denominator; None for one value),
+    min and max of ``values`` (None for no values)."""
+    n = len(values)
+    if n == 0:
+        return {"n": 0, "mean": None, "sd": None, "min": None, "max": None}
+    mean = math.fsum(values) / n
+    sd = math.sqrt(math.fsum((v - mean) ** 2 for v in values) / (n - 1)) if n > 1 else None
+    return {"n": n, "mean": mean, "sd": sd, "min": min(values), "max": max(values)}
+
+
+def point_rows(built: list[dict], outputs: list[str]) -> list[dict]:
+    """One row per point: its inputs, status (done, skipped, failed, not run), one-line
+    error, the chosen outputs, wall time [s] and run folder."""
+    rows = []
+    for b in built:
+        status = "failed" if b["case"] is None else b.get("status", "not run")
+        row = {"point": b["name"] or b["point"].label(), **b["inputs"], "status": status,
+               "error": b.get("error")}
+        row |= {o: b.get("outputs", {}).get(o) for o in outputs}
+        row |= {"wall_time_s": b.get("wall_time_s"), "run_folder": b.get("run_folder")}
+        rows.append(row)
+    return rows
+
+
+def group_rows(rows: list[dict], group_keys: list[str], outputs: list[str]) -> list[dict]:
+    """Per group of points that differ only in seed: the group's inputs, how many points it
+    has and how many finished, and ``<output>_mean``, ``_sd``, ``_min``, ``_max`` over the
+    finished points (NaN and missing values left out)."""
+    groups: dict[tuple, list[dict]] = {}
+    for r in rows:
+        groups.setdefault(tuple(r[k] for k in group_keys), []).append(r)
+    out = []
+    for values, members in groups.items():
+        ok = [r for r in members if r["status"] in ("done", "skipped")]
+        g = {**dict(zip(group_keys, values)), "points": len(members), "finished": len(ok)}
+        for o in outputs:
+            s = stats([r[o] for r in ok if r[o] is not None and not math.isnan(r[o])])
+            g |= {f"{o}_{k}": s[k] for k in ("mean", "sd", "min", "max")}
+        out.append(g)
+    return out
+
+
+def chosen_outputs(built: list[dict], outputs: list[str] | None) -> list[str]:
+    """The outputs to tabulate: ``outputs`` if given, else every output any finished point
+    has, in the order they first appear."""
+    if outputs:
+        return list(outputs)
+    names = {}
+    for b in built:
+        names |= dict.fromkeys(b.get("outputs", {}))
+    return list(names)
+
+
+def figure_outputs(groups: list[dict], names: list[str], most: int = 6) -> list[str]:
+    """What the figure shows when no output was chosen: up to ``most`` outputs, the
+    glossary's headline figures first (K..., resultant_height_over_H...), those whose
+    mean changes between groups before those that do not."""
+    def rank(name):
+        means = {g[f"{name}_mean"] for g in groups if g[f"{name}_mean"] is not None}
+        headline = name.split(".")[-1].startswith(("K", "resultant_height_over_H"))
+        return (len(means) < 2 and len(groups) > 1, not headline, names.index(name))
+    return sorted((n for n in names if any(g[f"{n}_mean"] is not None for g in groups)), key=rank)[:most]
+
+
+def write_tables(study: str, varied, built: list[dict], out, seed_key: str | None,
+                 outputs: list[str] | None = None, **settings) -> dict:
+    """sweep.json (the study, the varied values, the shared settings, points and groups),
+    sweep.csv (points), sweep_groups.csv (groups) and sweep.png in ``out``; returns
+    ``{"points", "groups"}`` as in sweep.json."""
+    import json
+    from .runfolder import to_plain
+    from .store import atomic_write
+    names = chosen_outputs(built, outputs)
+    rows = point_rows(built, names)
+    group_keys = [k for k, _ in varied if not is_seed(k, seed_key)]
+    groups = group_rows(rows, group_keys, names)
+    out = Path(out)
+    table = {"study": study, "varied": dict(varied), **settings, "outputs": names, "points": rows, "groups": groups}
+    atomic_write(out / "sweep.json", (json.dumps(to_plain(table), indent=2) + "\n").encode())
+    atomic_write(out / "sweep.csv", _csv(rows))
+    atomic_write(out / "sweep_groups.csv", _csv(groups))
+    finished = [g for g in groups if g["finished"]]
+    shown = list(outputs)[:6] if outputs else figure_outputs(finished, names)
+    if shown:
+        from viz.figures import plot_sweep
+        plot_sweep(finished, group_keys, shown, out / "sweep.png", title=f"{study} sweep")
+    return {"points": to_plain(rows), "groups": to_plain(groups)}
+
+
+def _csv(rows: list[dict]) -> bytes:
+    """Rows as CSV, floats in full (shortest exact) precision, None as empty."""
+    import csv
+    import io
+    buf = io.StringIO(newline="")
+    if rows:
+        w = csv.DictWriter(buf, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows({k: ("" if v is None else repr(v) if isinstance(v, float) else v) for k, v in r.items()}
+                     for r in rows)
+    return buf.getvalue().encode()
+
+
+def sweep_text(table: dict, most: int = 4) -> str:
+    """The groups for people: their inputs, finished/points and mean +- sd of the first
+    ``most`` outputs of the figure's choice."""
+    groups = table["groups"]
+    if not groups:
+        return "no points"
+    fixed = {"points", "finished"}
+    keys = [k for k in groups[0] if k not in fixed and not k.endswith(("_mean", "_sd", "_min", "_max"))]
+    names = figure_outputs(groups, [k[:-5] for k in groups[0] if k.endswith("_mean")], most)
+    lines = []
+    for g in groups:
+        head = " ".join(f"{k}={g[k]}" for k in keys) or "all points"
+        cells = [f"{n} {g[n + '_mean']:.4g}" + (f" +- {g[n + '_sd']:.2g}" if g[n + "_sd"] is not None else "")
+                 for n in names if g[n + "_mean"] is not None]
+        lines.append(f"{head}: {g['finished']}/{g['points']} finished" + ("; " + ", ".join(cells) if cells else ""))
+    return "\n".join(lines)

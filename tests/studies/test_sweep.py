@@ -1,0 +1,244 @@
+"""Sweeps on Dask (studies/sweep.py): the points and their statistics against hand
+values, and on a 2-worker LocalCluster a tiny Khosravi box (H 0.1 m, grains x5, to
+Dis/H 0.001) over 2 seeds x 2 wall speeds (+ one refused speed): the same numbers, bit for
+bit, as the same points run one by one through ``Study.run``; a rerun skips every point;
+a killed worker's point is run again."""
+
+import json
+import math
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+import cli
+from analytic.errors import InvalidParameter
+from studies import get
+from studies.sweep import (Point, build_points, expand, group_rows, lead_indices, parse_vary, result_outputs,
+                           run_point, run_sweep, stats)
+
+ROOT = Path(__file__).resolve().parents[2]
+TINY = ["H=0.1", "particles_scale=5", "wall_disp_over_H_max=0.001"]
+VARY = ["seed=1..2", "wall_speed=0.004,0.008,-0.004"]      # -0.004: refused by the case
+
+
+# ----------------------------------------------------------------------------- fast
+def test_vary_values_ranges_and_product():
+    varied = parse_vary(["seed=1..3", "mode = T, RB"])
+    assert varied == [("seed", ["1", "2", "3"]), ("mode", ["T", "RB"])]
+    points = expand(varied)
+    assert len(points) == 6
+    assert points[0] == Point((("seed", "1"), ("mode", "T")), (0, 0))
+    assert points[5].sets == ["seed=3", "mode=RB"]
+    assert [p.index for p in expand(parse_vary(["a=-1..0", "b=x"]))] == [(0, 0), (1, 0)]
+
+
+@pytest.mark.parametrize("bad", ["seed", "seed=", "=1,2", "seed=1..x", "seed=3..1", "seed=1,,2", "seed=1,1"])
+def test_vary_syntax_is_refused(bad):
+    with pytest.raises(InvalidParameter) as err:
+        parse_vary([bad])
+    assert "--vary" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_key_varied_twice_is_refused():
+    with pytest.raises(InvalidParameter, match="varied twice"):
+        parse_vary(["seed=1", "seed=2"])
+
+
+def test_leads_keep_the_seed_and_reset_one_key_each():
+    # seed x speed: each seed's first speed prepares the specimen, the second waits for it
+    assert lead_indices(expand(parse_vary(["seed=1,2", "v=a,b"])), seed_at=0) == [[], [0], [], [2]]
+    # two keys that may or may not shape the specimen: (b, y) waits for (a, y) and (b, x)
+    assert lead_indices(expand(parse_vary(["k=a,b", "m=x,y"])), seed_at=None) == [[], [0], [0], [1, 2]]
+
+
+def test_statistics_against_hand_values():
+    s = stats([1.0, 2.0, 4.0])
+    assert s["n"] == 3 and s["mean"] == pytest.approx(7 / 3, rel=1e-15)
+    assert s["sd"] == pytest.approx(math.sqrt(7 / 3), rel=1e-15)   # ((16 + 1 + 25) / 9) / 2 = 7/3
+    assert (s["min"], s["max"]) == (1.0, 4.0)
+    assert stats([5.0])["sd"] is None and stats([])["mean"] is None
+
+
+def test_groups_are_the_points_that_differ_only_in_seed():
+    rows = [{"seed": 1, "v": 1, "status": "done", "K": 0.30},
+            {"seed": 2, "v": 1, "status": "skipped", "K": 0.34},
+            {"seed": 3, "v": 1, "status": "failed", "K": None},
+            {"seed": 1, "v": 2, "status": "done", "K": 0.50},
+            {"seed": 2, "v": 2, "status": "done", "K": float("nan")}]
+    g1, g2 = group_rows(rows, ["v"], ["K"])
+    assert (g1["v"], g1["points"], g1["finished"]) == (1, 3, 2)
+    assert g1["K_mean"] == pytest.approx(0.32, rel=1e-14)
+    assert g1["K_sd"] == pytest.approx(math.sqrt(0.0008), rel=1e-12)   # (0.02^2 + 0.02^2) / 1
+    assert (g1["K_min"], g1["K_max"]) == (0.30, 0.34)
+    assert (g2["K_mean"], g2["K_sd"]) == (0.50, None)                  # NaN left out
+
+
+def test_cases_are_built_before_anything_runs():
+    study = get("khosravi")
+    built = build_points(study, parse_vary(VARY), sets=TINY)
+    assert [b["error"] is None for b in built] == [True, True, False, True, True, False]
+    assert "wall_speed = -0.004" in built[2]["error"]
+    assert built[0]["inputs"] == {"seed": 1, "wall_speed": 0.004}
+    assert built[0]["case"] == study.case(H=0.1, particles_scale=5, wall_disp_over_H_max=0.001, seed=1)
+    names = [b["name"] for b in built if b["name"]]
+    assert len(set(names)) == 4 and names[0].startswith("seed1_wall_speed0.004-")
+    with pytest.raises(InvalidParameter, match="unknown key"):
+        build_points(study, parse_vary(["no_such_key=1,2"]))
+
+
+def test_a_point_that_raises_is_one_line(tmp_path):
+    row = run_point("khosravi", None, "not a case", "bad-point", str(tmp_path))
+    assert row["status"] == "failed" and "\n" not in row["error"] and row["error"].startswith("AttributeError")
+
+
+@pytest.mark.parametrize("argv", [["--vary", "seed=1..x"], ["--vary", "nope=1,2"], ["--vary", "seed=1", "--set", "x"]])
+def test_cli_refuses_bad_input_in_one_line(argv, capsys, tmp_path):
+    assert cli.main(["sweep", "khosravi", *argv, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("wallsim")
+
+
+# ----------------------------------------------------------------------------- on Dask
+@pytest.fixture(scope="module")
+def client():
+    """A 2-worker LocalCluster whose workers import this checkout (PYTHONPATH)."""
+    from studies.sweep import dask_client
+    old = os.environ.get("PYTHONPATH")
+    os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), old]))
+    try:
+        with dask_client(workers=2) as c:
+            yield c
+    finally:
+        if old is None:
+            os.environ.pop("PYTHONPATH")
+        else:
+            os.environ["PYTHONPATH"] = old
+
+
+def _same(a, b) -> bool:
+    return a == b or (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b))
+
+
+def _serial(tmp_path_factory) -> list[dict]:
+    """The four good points run one by one in this process, in the sweep's order (their
+    results as result.json holds them)."""
+    from studies.runfolder import to_plain
+    study, out = get("khosravi"), tmp_path_factory.mktemp("serial")
+    return [to_plain(study.run(b["case"], out=str(out), quiet=True))
+            for b in build_points(study, parse_vary(VARY), sets=TINY) if b["case"] is not None]
+
+
+def _leaves(obj, prefix=""):
+    """Every value of a result by path, but for where and how long (paths, wall times)."""
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            # scale_note: the adapter adds it to the returned dict after result.json is written
+            if k not in ("timings_s", "specimen", "run_folder", "wall_time_s", "scale_note"):
+                yield from _leaves(v, f"{prefix}.{k}")
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            yield from _leaves(v, f"{prefix}[{i}]")
+    else:
+        yield prefix, obj
+
+
+@pytest.fixture(scope="module")
+def swept(client, tmp_path_factory):
+    out = tmp_path_factory.mktemp("sweep")
+    return out, run_sweep("khosravi", parse_vary(VARY), sets=TINY, out=out, client=client)
+
+
+@pytest.mark.slow
+def test_sweep_gives_the_serial_numbers_bit_for_bit(swept, client, tmp_path_factory):
+    assert set(client.run(lambda: __import__("studies").__file__).values()) == {str(ROOT / "studies" / "__init__.py")}
+    out, table = swept
+    done = [p for p in table["points"] if p["status"] == "done"]
+    assert len(done) == 4
+    serial = _serial(tmp_path_factory)
+    names = list(result_outputs(serial[0]))
+    assert "K_active_total" in names and "resultant_height_over_H_active" in names
+    differ = [(p["point"], n) for p, s in zip(done, serial) for n in names if not _same(p[n], result_outputs(s)[n])]
+    assert differ == []
+    for p, s in zip(done, serial):          # the whole result (readings, profiles, theories), not only the table
+        swept_result = json.loads((Path(p["run_folder"]) / "result.json").read_text())
+        want, have = dict(_leaves(s)), dict(_leaves(swept_result))
+        assert len(want) > 50 and want.keys() == have.keys()
+        assert [k for k in want if not _same(want[k], have[k])] == []
+    assert len({p["K_active_total"] for p in done}) == 4          # four different answers, not one copied
+    for p in done:
+        assert Path(p["run_folder"]).name == p["point"] and (Path(p["run_folder"]) / "result.json").is_file()
+
+
+@pytest.mark.slow
+def test_an_invalid_point_is_reported_and_the_others_finish(swept):
+    out, table = swept
+    failed = [p for p in table["points"] if p["status"] == "failed"]
+    assert [p["seed"] for p in failed] == ["1", "2"]
+    assert all(p["error"].startswith("wall_speed = -0.004 is outside the valid range") for p in failed)
+    on_disk = json.loads((out / "sweep.json").read_text())
+    assert on_disk["points"] == table["points"]
+    assert (out / "sweep.csv").read_text().count("\n") == 7 and (out / "sweep.png").is_file()
+    g = {row["wall_speed"]: row for row in table["groups"]}
+    ks = [p["K_active_total"] for p in table["points"] if p["wall_speed"] == 0.004]
+    assert g[0.004]["finished"] == 2 and g[0.004]["K_active_total_mean"] == stats(ks)["mean"]
+    assert g["-0.004"]["finished"] == 0 and g["-0.004"]["K_active_total_mean"] is None
+
+
+@pytest.mark.slow
+def test_a_rerun_skips_every_finished_point(swept, client, capsys):
+    out, first = swept
+    argv = ["sweep", "khosravi", *sum((["--vary", v] for v in VARY), []), *sum((["--set", s] for s in TINY), []),
+            "--out", str(out), "--scheduler", client.scheduler.address, "--json", "--quiet"]
+    assert cli.main(argv) == 1                      # 1: some points failed
+    again = json.loads(capsys.readouterr().out)
+    assert [p["status"] for p in again["points"]] == ["skipped", "skipped", "failed"] * 2
+    keep = [k for k in first["points"][0] if k not in ("status", "wall_time_s")]
+    assert [{k: p[k] for k in keep} for p in again["points"]] == [{k: p[k] for k in keep} for p in first["points"]]
+    assert {"wall_speed", "points", "finished", "K_active_total_mean", "K_active_total_sd"} <= set(again["groups"][0])
+
+
+@pytest.mark.slow
+def test_ctrl_c_stops_with_one_line_and_writes_the_table(client, tmp_path, monkeypatch, capsys):
+    import dask.distributed
+
+    def interrupted(futures):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(dask.distributed, "as_completed", interrupted)
+    argv = ["sweep", "khosravi", "--vary", "wall_speed=-1,-2", "--out", str(tmp_path), "--scheduler",
+            client.scheduler.address, "--quiet"]
+    assert cli.main(argv) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("wallsim: interrupted")
+    assert len(json.loads((tmp_path / "sweep.json").read_text())["points"]) == 2
+
+
+@pytest.mark.slow
+def test_killing_a_worker_mid_sweep_still_finishes_every_point(client, tmp_path):
+    killed = {}
+
+    def kill_one_busy_worker():
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not killed:
+            busy = {w: keys for w, keys in client.processing().items() if keys}
+            started = list(tmp_path.glob("khosravi/seed*"))
+            if busy and started:
+                worker = next(iter(busy))
+                pid = client.run(os.getpid, workers=[worker])[worker]
+                time.sleep(1.0)                      # well inside the point (pluviation takes seconds)
+                os.kill(pid, signal.SIGKILL)
+                killed[worker] = list(busy[worker])
+            time.sleep(0.2)
+
+    killer = threading.Thread(target=kill_one_busy_worker)
+    killer.start()
+    table = run_sweep("khosravi", parse_vary(["seed=1..2", "wall_speed=0.004,0.008"]), sets=TINY, out=tmp_path,
+                      client=client)
+    killer.join()
+    assert killed, "no worker was killed"
+    assert all(str(k).startswith("point-") for keys in killed.values() for k in keys)
+    assert [p["status"] for p in table["points"]] == ["done"] * 4
+    assert all((Path(p["run_folder"]) / "result.json").is_file() for p in table["points"])
