@@ -356,7 +356,8 @@ def _add_study_command(sub, study, cmd) -> None:
         p.add_argument("--seed", type=_argparse_type(_count_value("seed"), "seed"), default=argparse.SUPPRESS,
                        help=f"random seed ({cmd.seed_default})")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
-                   help="override any case field (after --config and the flags), e.g. --set seed=2")
+                   help="override any case field (after --config and the flags); `wallsim keys "
+                        f"{study.name}` lists them")
     p.add_argument("--config", metavar="FILE.toml", help="case settings from a TOML file (before the flags)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -385,8 +386,10 @@ def _setting_sources(cmd, args) -> dict[str, str]:
 
 
 def _cmd_study(cmd, args) -> int:
+    import studies.runner as runner
     from studies.runner import finished_result
 
+    runner.current_folder = None          # this command's folder, not an earlier one's
     case = case_from_args(cmd, args)
     resume = getattr(args, "resume", None)
     if resume is not None and finished_result(resume) is not None:

@@ -238,8 +238,8 @@ def _sigint_between_steps():
     KeyboardInterrupt after the step. Outside the main thread signals cannot be caught,
     and nothing changes."""
     marks: list = []
-    if threading.current_thread() is not threading.main_thread():
-        yield marks
+    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        yield marks               # no handler to defer (or Ctrl-C deliberately ignored): leave it be
         return
     previous = signal.signal(signal.SIGINT, lambda signum, frame: marks.append(signum))
     try:

@@ -4,6 +4,7 @@ write ``result.json`` and the manifest. A study module supplies only its stages.
 
 from __future__ import annotations
 
+import json
 import time
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -11,7 +12,8 @@ from pathlib import Path
 
 from .runfolder import RunFolder
 
-#: the run folder of the run in progress in this process (what an interrupt reports)
+#: the run folder of the command in progress in this process (what an interrupt and the
+#: config notes refer to); the CLI clears it before each command
 current_folder: Path | None = None
 
 #: the folder name a sweep gives the run in this thread (``named_run``); None: date, time, seed
@@ -29,17 +31,42 @@ def named_run(name: str):
         _run_name.reset(token)
 
 
+#: the run options of the command in progress (``recorded_options``), kept in the run
+#: folder so a resume runs with the same recording and output settings
+_options: ContextVar[dict | None] = ContextVar("wallsim_run_options", default=None)
+
+
+@contextmanager
+def recorded_options(options: dict):
+    """Within this block a new run folder keeps ``options`` in run_options.json."""
+    token = _options.set(options)
+    try:
+        yield
+    finally:
+        _options.reset(token)
+
+
+def saved_options(run_dir: str | Path) -> dict:
+    """The run options an interrupted run started with ({} for runs before they were kept)."""
+    p = Path(run_dir) / "run_options.json"
+    return json.loads(p.read_text()) if p.is_file() else {}
+
+
 def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | None = None,
-                    name: str | None = None) -> RunFolder:
+                    name: str | None = None, seed: int | None = None) -> RunFolder:
     """A new run folder with the resolved case in config.toml, or, with ``resume``, the
-    interrupted run's own folder (its config.toml is the case, kept as it was)."""
+    interrupted run's own folder (its config.toml is the case, kept as it was).
+    ``seed``: the case's seed when it is not ``case.seed``."""
     global current_folder
     name = name if name is not None else _run_name.get()
+    seed = seed if seed is not None else getattr(case, "seed", None)
     if resume is not None:
-        folder = RunFolder.existing(resume, seed=getattr(case, "seed", None))
+        folder = RunFolder.existing(resume, seed=seed)
     else:
-        folder = RunFolder(study, getattr(case, "seed", None), root=root, name=name)
+        folder = RunFolder(study, seed, root=root, name=name)
         folder.write_config(case)
+        if _options.get() is not None:
+            folder.write_json("run_options.json", _options.get())
     current_folder = folder.path
     return folder
 
@@ -110,6 +137,8 @@ def used_settings(result: dict) -> list[str]:
     used = []
     if "particles" in result:
         used.append(f"particles reached: {result['particles']}")
+    if "H_m" in result:
+        used.append(f"fill height reached: {result['H_m']:.4g} m (the case's H is the target)")
     for key, text in (("grain_scale", "grain diameters x {:.4g} (the case's d_min, d_max)"),
                       ("width_m", "periodic width {:.4g} m"), ("dt_s", "time step {:.4g} s")):
         if key in prov:
@@ -128,3 +157,13 @@ def annotate_config(sources: dict[str, str], result: dict) -> None:
     text = path.read_text().split("\n# where the settings came from")[0].rstrip("\n") + "\n"
     from .store import atomic_write
     atomic_write(path, (text + sources_comment(sources, used_settings(result))).encode())
+
+
+def add_to_result(result: dict) -> None:
+    """Rewrite the run folder's result.json with what the study added after the run
+    (so result.json stays what ``--json`` prints)."""
+    from .runfolder import to_plain
+    from .store import atomic_write
+    folder = result.get("run_folder")
+    if folder and (Path(folder) / "result.json").is_file():
+        atomic_write(Path(folder) / "result.json", (json.dumps(to_plain(result), indent=2) + "\n").encode())

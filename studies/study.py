@@ -102,15 +102,21 @@ class Command:
         return SimpleNamespace(**(opts | given))
 
 
+def _study_names() -> tuple[str, ...]:
+    from . import NAMES
+    return NAMES
+
+
 def _resume_config(resume: str, study: str | None) -> str:
     """The config.toml of the run folder ``resume``, which must be a run of ``study``."""
     folder = Path(resume)
     config = folder / "config.toml"
     if not resume or not config.is_file():
         raise InvalidParameter("--resume", resume, "a run folder with a config.toml")
-    if study is not None and folder.resolve().parent.name != study:
+    other = folder.resolve().parent.name
+    if study is not None and other != study and other in _study_names():
         raise InvalidParameter("--resume", resume, f"a run folder of {study} (runs/{study}/...)",
-                               f"it is a run of {folder.resolve().parent.name}")
+                               f"it is a run of {other}")
     return str(config)
 
 
@@ -154,6 +160,12 @@ class Study:
         return its result dict; ``options`` are the command's run options (``out``,
         ``quiet``, ``rrd``, ...). The run folder is written as by the CLI."""
         cmd = self.command(verb)
+        if options.get("resume"):
+            started = cmd.resolve(resume=str(options["resume"]), study=self.name)
+            if case is not None and case != started:
+                raise InvalidParameter("resume", str(options["resume"]), "the case that run started with",
+                                       "a resumed run keeps its settings; pass case=None")
+            case = started
         result, _ = cmd.run(case if case is not None else cmd.default_case(), cmd.run_options(**options))
         return result
 

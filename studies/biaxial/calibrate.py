@@ -23,6 +23,8 @@ from dem2d.biaxial import BiaxialCase, BiaxialTest
 from dem2d.params import Solver
 from studies.progress import progress
 from studies.runfolder import RunFolder, to_plain
+from studies.runner import open_run_folder
+from studies.store import atomic_write
 from studies.store import find_card_entry
 
 #: the card committed with the validation report
@@ -92,14 +94,13 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
     the card to ``card`` if given. Returns (card dict, run folder)."""
     import viz.figures  # noqa: F401  (here, as before: a missing plotting stack fails before the tests run)
 
-    rf = RunFolder("biaxial", plan.case.seed, root=root)
-    rf.write_config(plan)
+    rf = open_run_folder("biaxial", plan, root, seed=plan.case.seed)
     tests = []
 
     def save_card(mu_cal):  # after every test, so other runs can use finished tests
         if card is not None:
             Path(card).parent.mkdir(parents=True, exist_ok=True)
-            Path(card).write_text(json.dumps(to_plain(_card(plan, tests, rf, mu_cal)), indent=2) + "\n")
+            atomic_write(card, (json.dumps(to_plain(_card(plan, tests, rf, mu_cal)), indent=2) + "\n").encode())
 
     with progress(quiet) as bar:
         mu_cal = _run_tests(plan, tests, bar, save_card)
@@ -111,7 +112,7 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
     rf.write_manifest(n_grains=[t["n_grains"] for t in tests], dt=plan.case.solver.dt,
                       iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
     if card is not None:
-        Path(card).write_text(json.dumps(to_plain(result), indent=2) + "\n")
+        atomic_write(card, (json.dumps(to_plain(result), indent=2) + "\n").encode())
         import shutil
         shutil.copy(rf.file("biaxial.png"), Path(card).with_suffix(".png"))
     return result, rf

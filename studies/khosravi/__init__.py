@@ -13,6 +13,7 @@ from types import SimpleNamespace
 
 from ..options import number, output_file, output_folder
 from ..report import reduced_size_line
+from ..runner import add_to_result
 from ..study import Command, Option, Study
 
 
@@ -34,6 +35,7 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     note = scale_note(case, result)
     if note:
         result["scale_note"] = note
+        add_to_result(result)
     return result, (f"{note}\n" if note else "") + f"run folder: {rf.path}"
 
 

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from studies.report import check, checks_markdown, within
 from studies.runfolder import to_plain
+from studies.store import atomic_write
 
 
 def _trend(d: dict) -> str:
@@ -101,9 +102,9 @@ def write_report(result: dict, rf, out_dir: Path, reference: Path) -> dict:
               "manifest": {k: manifest.get(k) for k in ("versions", "git", "host", "cpu_count", "wall_time_s")},
               "reference": str(reference.name)}
     pj = out_dir / "khosravi.json"
-    pj.write_text(json.dumps(to_plain(report), indent=2) + "\n")
+    atomic_write(pj, (json.dumps(to_plain(report), indent=2) + "\n").encode())
     pm = out_dir / "khosravi.md"
-    pm.write_text(_markdown(result, checks, figs, manifest, ref))
+    atomic_write(pm, _markdown(result, checks, figs, manifest, ref).encode())
     report["paths"] = {"json": str(pj), "md": str(pm)}
     return report
 

@@ -15,6 +15,7 @@ from analytic.errors import InvalidParameter
 
 from ..options import RECORDING, count, output_folder
 from ..report import reduced_size_line
+from ..runner import add_to_result
 from ..study import Command, Option, Study
 
 MODES = ("T", "RB", "RT", "mixed")
@@ -37,16 +38,24 @@ def wall_kind(case) -> str:
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
+    from ..runner import recorded_options, saved_options
     from .compare import compare_nadukuru
 
-    with progress(opts.quiet) as bar:
-        result, folder = compare_nadukuru(case, wall_kind(case), root=Path(opts.out),
-                                          rrd=opts.rrd if isinstance(opts.rrd, str) else None,
-                                          spawn=opts.spawn, every=opts.every, record=not opts.no_rrd,
-                                          progress=bar, resume=Path(opts.resume) if opts.resume else None)
+    kept = {"rrd": opts.rrd if isinstance(opts.rrd, str) else None, "no_rrd": opts.no_rrd, "every": opts.every}
+    root = Path(opts.out)
+    if opts.resume:
+        # a resume runs where the run started (its specimen cache and phi card are under
+        # that root) and records as it did: the saved options win over today's defaults
+        root = Path(opts.resume).resolve().parents[1]
+        kept |= saved_options(opts.resume)
+    with progress(opts.quiet) as bar, recorded_options(kept):
+        result, folder = compare_nadukuru(case, wall_kind(case), root=root, rrd=kept["rrd"], spawn=opts.spawn,
+                                          every=kept["every"], record=not kept["no_rrd"], progress=bar,
+                                          resume=Path(opts.resume) if opts.resume else None)
     note = scale_note(case, result)
     if note:
         result["scale_note"] = note
+        add_to_result(result)
     return result, (f"{note}\n" if note else "") + f"run folder: {folder}"
 
 

@@ -70,7 +70,8 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     folder = open_run_folder("nadukuru", case, root, resume=resume)
     spec, cached = load_or_prepare(case, Path(root) / "nadukuru" / "specimens", progress)
     cmp = comparison(case, wall_kind, spec, root)
-    rrd_path = Path(rrd) if rrd is not None else folder.file("recording.rrd")
+    # a resumed run records what it runs: the part after the resume, in its own file
+    rrd_path = Path(rrd) if rrd is not None else folder.file("recording-resumed.rrd" if resume else "recording.rrd")
     recorder = open_recording(rrd_path if record else None, study="nadukuru", dim=3, spawn=spawn,
                               recording_id=f"{folder.path.name}-{case.movement.mode}", blueprint=nadukuru_blueprint())
     recorder.log_case(_case_markdown(case, wall_kind, spec, cmp.phi, cmp.phi_source))
@@ -79,7 +80,7 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
         hist, frames = _move_and_record(case, spec, cmp, recorder, every, progress, folder)
         recorder.close()
     _write_tables(folder, case, hist, cmp)
-    _write_figures(folder, case, wall_kind, spec, hist, frames, cmp)
+    _write_figures(folder, case, wall_kind, spec, hist, frames, cmp, resumed=resume is not None)
     result = _result(case, wall_kind, spec, cached, hist, cmp, folder)
     result["wall_time_s"] = clock.total
     movement_s = clock.seconds["movement"]
@@ -143,8 +144,9 @@ def _write_tables(folder, case: NadukuruCase, hist: dict, cmp: Comparison) -> No
 
 
 def _write_figures(folder, case: NadukuruCase, wall_kind: str, spec, hist: dict, frames: dict,
-                   cmp: Comparison) -> None:
-    """The paper's figures for this run: Fig. 4 (K), Fig. 5 (segments), Fig. 3 (field, chains)."""
+                   cmp: Comparison, resumed: bool = False) -> None:
+    """The paper's figures for this run: Fig. 4 (K), Fig. 5 (segments), Fig. 3 (field,
+    chains; after a resume the field covers the movement since the resume, and says so)."""
     from viz.figures import plot_displacement_field, plot_force_chains, plot_load_history, plot_segment_stress
 
     mode = MODE_TITLES[case.movement.mode]
@@ -161,7 +163,8 @@ def _write_figures(folder, case: NadukuruCase, wall_kind: str, spec, hist: dict,
         end = hist["wall_disp_over_H"][-1]
         plot_displacement_field(frames["first"].positions, frames["last"].positions,
                                 folder.file("fig3a_displacements.png"),
-                                title=f"Fig. 3(a): displacements x15 at Delta/H = {end:.4f}\n{mode}, {wall_kind} wall")
+                                title=f"Fig. 3(a): displacements x15 at Delta/H = {end:.4f}"
+                                      + (" since the resume" if resumed else "") + f"\n{mode}, {wall_kind} wall")
         plot_force_chains(frames["last"], folder.file("fig3b_force_chains.png"),
                           title=f"Force chains at Delta/H = {end:.4f} ({mode}, {wall_kind} wall)")
 

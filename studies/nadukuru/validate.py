@@ -20,6 +20,7 @@ import numpy as np
 from .model import G, MODES, Movement, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
     rough_or_smooth, theory_rows
 from ..config import with_current_names
+from ..store import atomic_write
 from ..runfolder import package_versions, git_revision, to_plain
 
 #: the validation targets (reference.json "targets"): K and h/H against Tables 1-2
@@ -172,9 +173,10 @@ def _write_report(report: dict, out_dir: Path) -> dict:
     """Merge with the previous ``nadukuru.json`` (``_keep_other_walls``), write it and
     ``nadukuru.md`` (with the hand-written discussion, if any). Returns the merged report."""
     report = _keep_other_walls(report, out_dir / "nadukuru.json")
-    (out_dir / "nadukuru.json").write_text(json.dumps(to_plain(report), indent=1) + "\n")
+    atomic_write(out_dir / "nadukuru.json", (json.dumps(to_plain(report), indent=1) + "\n").encode())
     notes = out_dir / "nadukuru_discussion.md"
-    (out_dir / "nadukuru.md").write_text(markdown(report, notes.read_text() if notes.exists() else None, out_dir))
+    atomic_write(out_dir / "nadukuru.md", markdown(report, notes.read_text() if notes.exists() else None,
+                                                   out_dir).encode())
     return report
 
 

@@ -183,3 +183,59 @@ def test_ctrl_c_stops_with_one_line_and_exit_130(argv, resumable, tmp_path):
     last = err.strip().splitlines()[-1]
     assert last.startswith("wallsim: interrupted")
     assert ("--resume" in last) == resumable
+    # the line names this run's folder, which exists (or says nothing was written yet)
+    named = [w for w in last.replace(")", " ").split() if w.startswith(str(tmp_path))]
+    assert all(Path(w).is_dir() for w in named) and (named or "nothing was written" in last)
+
+
+def _write_and_reread(argv, tmp_path):
+    """The case of ``argv``, written to a run folder's config.toml and read back with --config."""
+    from studies.runfolder import RunFolder
+
+    case = _case(argv)
+    folder = RunFolder("x", 1, root=tmp_path)
+    folder.write_config(case)
+    return case, _case(argv[:2] + ["--config", str(folder.path / "config.toml")])
+
+
+def test_a_runs_config_repeats_it_whatever_the_key_order(tmp_path):
+    """Checks that span fields see the final values: particles=700 is allowed once d_max
+    shrinks the grains, and the run's config.toml (particles written before d_max) is read
+    back to the same case (before, it was refused: 700 < 878 at the old d_max)."""
+    case, again = _write_and_reread(["compare", "nadukuru", "--set", "d_max=0.05", "--set", "particles=700"],
+                                    tmp_path)
+    assert case.specimen.particles == 700 and again == case
+
+
+def test_a_runs_config_keeps_unset_values(tmp_path):
+    """None survives config.toml: reading_iterations=none (readings at the fill's sweeps)
+    came back at the default 80 when None was dropped from the file."""
+    case, again = _write_and_reread(["compare", "khosravi", "--set", "reading_iterations=none"], tmp_path)
+    assert case.reading_iterations is None and again == case
+
+
+@pytest.mark.slow
+def test_the_printed_resume_command_continues_where_the_run_started(tmp_path):
+    """Ctrl-C prints a resume command; run from another folder it resumes under the
+    run's own root (specimen cache there, not in ./runs) with the run's own options
+    (--no-rrd kept: no recording)."""
+    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    root = tmp_path / "first"
+    proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), "compare", "nadukuru", "--particles", "3000",
+                             "--no-rrd", "--quiet", "--out", str(root)], cwd=tmp_path, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(10.0)                 # into the wall movement: a checkpoint holds part of it
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    line = err.strip().splitlines()[-1]
+    assert proc.returncode == 130 and "--resume" in line
+    folder = Path(line.split("--resume ", 1)[1])
+    assert folder.is_dir() and folder.parent.parent == root
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    done = subprocess.run([sys.executable, str(ROOT / "cli.py"), "compare", "nadukuru", "--resume", str(folder),
+                           "--quiet", "--json"], cwd=elsewhere, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert not (elsewhere / "runs").exists() and (root / "nadukuru" / "specimens").is_dir()
+    assert not any(folder.glob("*.rrd"))
+    assert json.loads(done.stdout)["run_folder"] == str(folder)
