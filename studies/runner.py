@@ -167,3 +167,13 @@ def add_to_result(result: dict) -> None:
     folder = result.get("run_folder")
     if folder and (Path(folder) / "result.json").is_file():
         atomic_write(Path(folder) / "result.json", (json.dumps(to_plain(result), indent=2) + "\n").encode())
+
+
+def closing_line(result: dict, note: str | None, folder) -> str:
+    """The line(s) a study command prints last: a reduced-size note (kept in result.json
+    too) and the run folder."""
+    if not note:
+        return f"run folder: {folder}"
+    result["scale_note"] = note
+    add_to_result(result)
+    return f"{note}\nrun folder: {folder}"

@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 from ..options import number, output_file, output_folder
 from ..report import reduced_size_line
-from ..runner import add_to_result
+from ..runner import closing_line
 from ..study import Command, Option, Study
 
 
@@ -32,11 +32,7 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from .compare import compare_khosravi
     result, rf = compare_khosravi(case, root=opts.out, rrd=opts.rrd, quiet=opts.quiet,
                                   specimen_cache=not opts.no_cache)
-    note = scale_note(case, result)
-    if note:
-        result["scale_note"] = note
-        add_to_result(result)
-    return result, (f"{note}\n" if note else "") + f"run folder: {rf.path}"
+    return result, closing_line(result, scale_note(case, result), rf.path)
 
 
 def scale_note(case, result: dict) -> str | None:

@@ -15,7 +15,7 @@ from analytic.errors import InvalidParameter
 
 from ..options import RECORDING, count, output_folder
 from ..report import reduced_size_line
-from ..runner import add_to_result
+from ..runner import closing_line
 from ..study import Command, Option, Study
 
 MODES = ("T", "RB", "RT", "mixed")
@@ -52,11 +52,7 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
         result, folder = compare_nadukuru(case, wall_kind(case), root=root, rrd=kept["rrd"], spawn=opts.spawn,
                                           every=kept["every"], record=not kept["no_rrd"], progress=bar,
                                           resume=Path(opts.resume) if opts.resume else None)
-    note = scale_note(case, result)
-    if note:
-        result["scale_note"] = note
-        add_to_result(result)
-    return result, (f"{note}\n" if note else "") + f"run folder: {folder}"
+    return result, closing_line(result, scale_note(case, result), folder)
 
 
 def scale_note(case, result: dict) -> str | None:
