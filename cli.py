@@ -460,7 +460,8 @@ def _cmd_sweep(args) -> int:
         print(f"wallsim: interrupted; the finished points and sweep.csv are in {args.out}, and the same command "
               "runs the rest", file=sys.stderr)
         return EXIT_INTERRUPTED
-    print(json.dumps(table, indent=2) if args.json else sweep_text(table))
+    from studies.runfolder import to_plain
+    print(json.dumps(to_plain(table), indent=2) if args.json else sweep_text(table))     # NaN -> null
     failed = [p for p in table["points"] if p["status"] == "failed"]
     for p in failed:
         print(f"wallsim: point {p['point']} failed: {p['error']}", file=sys.stderr)
