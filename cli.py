@@ -582,6 +582,7 @@ EXIT_BROKEN_PIPE = 141        # 128 + SIGPIPE
 
 
 def main(argv: list[str] | None = None) -> int:
+    interrupts = _watch_interrupts()
     try:
         args = build_parser().parse_args(argv)
         return args.func(args)
@@ -589,11 +590,55 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"wallsim: error: {err}\n")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        from studies.runner import interrupted_line
-        sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv))}\n")
-        return EXIT_INTERRUPTED
+        return _interrupted(argv)
     except BrokenPipeError:
         return _reader_went_away()
+    except Exception:
+        if interrupts:            # Ctrl-C landed in a C callback (numba's first compile) and
+            return _interrupted(argv)   # surfaced as another error: still an interrupt
+        raise
+
+
+def _watch_interrupts() -> list:
+    """Record every Ctrl-C (still raising KeyboardInterrupt). A KeyboardInterrupt that a
+    C callback swallows (numba's first compile: "Exception ignored on calling ctypes
+    callback", and the run went on) is raised again once Python code runs: the run
+    stops with one line either way. Nothing changes when the process ignores Ctrl-C or
+    main runs outside the main thread."""
+    import signal
+    import threading
+
+    seen: list = []
+    if threading.current_thread() is not threading.main_thread() or \
+            signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        return seen
+
+    def on_sigint(signum, frame):
+        seen.append(signum)
+        raise KeyboardInterrupt
+
+    def again(signum, frame):
+        raise KeyboardInterrupt
+
+    def unraisable(u):
+        if issubclass(u.exc_type, KeyboardInterrupt):
+            # swallowed in a C callback: raise it again 50 ms on, from a timer, so it lands
+            # in Python code (swallowed again, it comes back again)
+            signal.signal(signal.SIGALRM, again)
+            signal.setitimer(signal.ITIMER_REAL, 0.05)
+        else:
+            default_hook(u)
+
+    signal.signal(signal.SIGINT, on_sigint)
+    default_hook = sys.unraisablehook
+    sys.unraisablehook = unraisable
+    return seen
+
+
+def _interrupted(argv) -> int:
+    from studies.runner import interrupted_line
+    sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv))}\n")
+    return EXIT_INTERRUPTED
 
 
 def _reader_went_away() -> int:
