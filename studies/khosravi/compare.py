@@ -322,7 +322,7 @@ def _readings_series(run: KhosraviRun, rest) -> tuple[np.ndarray, list, dict]:
 
 def _write_tables(rf, run: KhosraviRun, rest) -> None:
     """Panels at rest and active, the readings against Dis/H, every panel of every
-    window (a report can be re-read at any Dis/H), and the readings while filling."""
+    window (a report can be re-read at any Dis/H)."""
     c, bf = run.case, run.backfill
     z, H = run.panel_depths(), bf.H
     gH = bf.gamma * H
@@ -337,16 +337,13 @@ def _write_tables(rf, run: KhosraviRun, rest) -> None:
     rf.write_csv("panels_vs_displacement.csv", ["wall_disp_over_H", "panel", "depth_m", "sigma_h_kPa", "tau_kPa"],
                  [[dis[k], i, z[i], r.sigma[i] / 1e3, r.tau[i] / 1e3]
                   for k, r in enumerate([rest] + run.history) for i in range(len(z))])
-    rf.write_csv("backfilling.csv", ["layer", "surface_m", "panel", "panel_centre_height_m", "sigma_h_kPa"],
-                 [[layer, surf, i, (i + 0.5) * c.panel_height, s / 1e3]
-                  for layer, surf, sig in bf.layer_readings for i, s in enumerate(sig)])
 
 
 def _write_figures(rf, run: KhosraviRun, rest, result: dict, th: dict) -> None:
-    """Khosravi et al.'s Figs. 9 (while filling), 10 (at rest), 12 (readings against
-    Dis/H) and 13 (profiles against the theories)."""
-    from viz.figures import (plot_khosravi_at_rest, plot_khosravi_backfilling, plot_khosravi_profiles,
-                             plot_khosravi_vs_displacement)
+    """Khosravi et al.'s Figs. 9 (while filling, with backfilling.csv), 10 (at rest), 12
+    (readings against Dis/H) and 13 (profiles against the theories)."""
+    from viz.figures import plot_khosravi_at_rest, plot_khosravi_profiles, plot_khosravi_vs_displacement
+    from .backfilling import write_backfilling
 
     c, bf, dem = run.case, run.backfill, result["dem"]
     z, H, g = run.panel_depths(), bf.H, bf.gamma
@@ -368,10 +365,7 @@ def _write_figures(rf, run: KhosraviRun, rest, result: dict, th: dict) -> None:
     plot_khosravi_profiles(d / H, m_rest / gH, m_act / gH, [p for k, p in th.items() if k != "jaky"],
                            rf.file("fig13_profiles.png"), jaky_K=dem["jaky_K0"], gamma=g, H=H,
                            wall_disp_over_H=act.dis / H, title=f"phi_biaxial = {dem['phi_biaxial']:.1f} deg, delta = phi")
-    if bf.layer_readings:
-        plot_khosravi_backfilling(bf.layer_readings, rf.file("fig09_backfilling.png"), gamma=g, H=H,
-                                  panel_height=c.panel_height,
-                                  title=f"During backfilling, {bf.n_grains} disks (Khosravi Fig. 9)")
+    write_backfilling(rf, bf.layer_readings, c.panel_height, gamma=g, H=H, n_grains=bf.n_grains)
 
 
 #: the validation moves the wall on to here and reads the active state at 0.003: a run that
@@ -388,4 +382,8 @@ def validate_khosravi(*, out_dir: str | Path, root: str | Path = "runs", quiet: 
 
     case = case or KhosraviCase(wall_disp_over_H_max=VALIDATION_DIS_OVER_H)
     result, rf = compare_khosravi(case, root=root, quiet=quiet, rrd=rrd)
-    return write_report(result, rf, Path(out_dir), REFERENCE)
+    backfilling = None
+    if case.pluviation.hold_depth > 0:  # Fig. 9 needs every cell read: a free fill of the same box
+        from .backfilling import run_backfilling
+        backfilling = run_backfilling(case, root=root, quiet=quiet)
+    return write_report(result, rf, Path(out_dir), REFERENCE, backfilling=backfilling)

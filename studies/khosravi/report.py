@@ -83,33 +83,65 @@ def _time_check(result: dict, goal_min: float) -> dict:
                        f"translation {parts[2] / 60:.1f})", minutes <= goal_min)
 
 
-def write_report(result: dict, rf, out_dir: Path, reference: Path) -> dict:
-    """Write khosravi.json / khosravi.md and copy the figures into ``out_dir``."""
+_FIGURES = ("fig09_backfilling.png", "fig10_at_rest.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png")
+_MANIFEST_KEYS = ("versions", "git", "host", "cpu_count", "wall_time_s")
+
+
+def _manifest(folder: Path) -> dict:
+    p = folder / "manifest.json"
+    return json.loads(p.read_text()) if p.exists() else {}
+
+
+def write_report(result: dict, rf, out_dir: Path, reference: Path, backfilling: tuple | None = None) -> dict:
+    """Write khosravi.json / khosravi.md and copy the figures into ``out_dir``.
+    ``backfilling``: (result, run folder) of the free fill (backfilling.py) whose Fig. 9
+    and backfilling.csv replace the held-layer run's."""
     out_dir.mkdir(parents=True, exist_ok=True)
     figdir = out_dir / "khosravi"
     figdir.mkdir(exist_ok=True)
+    source = {name: rf.path for name in _FIGURES + ("backfilling.csv",)}
+    if backfilling is not None:
+        source["fig09_backfilling.png"] = source["backfilling.csv"] = backfilling[1].path
     figs = {}
-    for name in ("fig09_backfilling.png", "fig10_at_rest.png", "fig12_pressure_vs_displacement.png",
-                 "fig13_profiles.png"):
-        src = rf.path / name
-        if src.exists():
-            shutil.copy(src, figdir / name)
-            figs[name] = f"khosravi/{name}"
+    for name, folder in source.items():
+        if (folder / name).exists():
+            shutil.copy(folder / name, figdir / name)
+            if name in _FIGURES:
+                figs[name] = f"khosravi/{name}"
     ref = json.loads(reference.read_text())
     checks = assess(result, ref)
-    manifest = json.loads((rf.path / "manifest.json").read_text()) if (rf.path / "manifest.json").exists() else {}
+    manifest = _manifest(rf.path)
     report = {"result": result, "checks": checks, "figures": figs, "run_folder": str(rf.path),
-              "manifest": {k: manifest.get(k) for k in ("versions", "git", "host", "cpu_count", "wall_time_s")},
+              "manifest": {k: manifest.get(k) for k in _MANIFEST_KEYS},
               "reference": str(reference.name)}
+    if backfilling is not None:
+        bf_manifest = _manifest(backfilling[1].path)
+        report["backfilling"] = {**backfilling[0], "run_folder": str(backfilling[1].path),
+                                 "manifest": {k: bf_manifest.get(k) for k in _MANIFEST_KEYS}}
     pj = out_dir / "khosravi.json"
     atomic_write(pj, (json.dumps(to_plain(report), indent=2) + "\n").encode())
     pm = out_dir / "khosravi.md"
-    atomic_write(pm, _markdown(result, checks, figs, manifest, ref).encode())
+    atomic_write(pm, _markdown(result, checks, figs, manifest, ref, report.get("backfilling")).encode())
     report["paths"] = {"json": str(pj), "md": str(pm)}
     return report
 
 
-def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: dict) -> str:
+def _backfilling_lines(bf: dict | None) -> list[str]:
+    """Where Fig. 9 comes from: the free fill's own run, or the held-layer run's cells."""
+    if bf is None:
+        return ["Fig. 9 is the held-layer fill's: cells beside grains held static are not read."]
+    rev = (bf.get("manifest") or {}).get("git", "unknown")
+    t = bf.get("timings_s", {})
+    return [f"Fig. 9 and `khosravi/backfilling.csv` come from a free fill of the same box (nothing held, "
+            f"{bf['particles']} disks, seed {bf['seed']}, {bf['layers']} layers, "
+            f"{bf['unread_cells_below_surface']} cells below the surface not read; pluviation "
+            f"{t.get('pluviation_s', float('nan')) / 60:.1f} min, CPU {t.get('cpu_total', float('nan')) / 60:.1f} min; "
+            f"git {rev}): the run above holds grains deeper than 2 cm below the surface static while the next "
+            f"layers fall (3.8x cheaper), so beside them the wall reads only the free strip along it."]
+
+
+def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: dict,
+              backfilling: dict | None = None) -> str:
     d = res["dem"]
     t = res.get("timings_s", {})
     lines = [
@@ -152,7 +184,7 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
     r = res["readings"]
     for zh, a, b in zip(r["depth_over_H"], r["at_rest_over_gammaH"], r["active_over_gammaH"]):
         lines.append(f"| {zh:.3f} | {a:.4f} | {b:.4f} |")
-    lines += ["", "## Figures", ""]
+    lines += ["", "## Figures", "", *_backfilling_lines(backfilling), ""]
     for name, rel in figs.items():
         lines.append(f"![{name}]({rel})")
     lines += ["", "What an impulse solver means for these numbers: see docs/dem2d.md.", ""]

@@ -62,25 +62,43 @@ def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, 
     assert res2["dem"]["phi_biaxial"] == res["dem"]["phi_biaxial"]
 
 
-def test_backfilling_readings_are_whole_in_a_free_fill_and_marked_in_a_held_one(capsys, tmp_path):
-    """Khosravi Fig. 9 reads every cell below the surface after each layer. A free fill
-    (hold_depth 0) gives a reading for each; the held-layer fill (the default, 3.8x
-    cheaper) cannot read cells under grains held static, and marks exactly those as not
-    read (NaN: deeper than hold_depth below the surface), never a made-up value."""
+def test_held_fill_marks_the_cells_it_cannot_read(capsys, tmp_path):
+    """Khosravi Fig. 9 reads every cell below the surface after each layer. The
+    held-layer fill (the default, 3.8x cheaper) cannot read cells under grains held
+    static, and marks exactly those as not read (NaN: deeper than hold_depth below the
+    surface), never a made-up value. (A free fill reads them all: the next test.)"""
     import csv
 
-    def rows(extra):
-        out = tmp_path / ("free" if extra else "held")
-        assert cli.main(TINY + ["--out", str(out), "--no-cache"] + extra) == 0
-        capsys.readouterr()
-        folder = next(p for p in (out / "khosravi").iterdir() if not p.name.startswith("_"))
-        return list(csv.DictReader((folder / "backfilling.csv").open()))
-
-    def below(r):
-        return float(r["panel_centre_height_m"]) < float(r["surface_m"])
-
-    free = [r for r in rows(["--set", "pluviation.hold_depth=0"]) if below(r)]
-    assert free and all(r["sigma_h_kPa"] not in ("nan", "") for r in free)
-    held = [r for r in rows([]) if below(r)]
+    out = tmp_path / "held"
+    assert cli.main(TINY + ["--out", str(out), "--no-cache"]) == 0
+    capsys.readouterr()
+    folder = next(p for p in (out / "khosravi").iterdir() if not p.name.startswith("_"))
+    held = [r for r in csv.DictReader((folder / "backfilling.csv").open())
+            if float(r["panel_centre_height_m"]) < float(r["surface_m"])]
     unread = [r for r in held if r["sigma_h_kPa"] in ("nan", "")]
     assert unread and all(float(r["panel_centre_height_m"]) < float(r["surface_m"]) - 0.02 for r in unread)
+
+
+def test_validation_reads_fig9_from_a_free_fill(tmp_path):
+    """The held-layer fill cannot read the cells beside held grains, so the validation
+    draws Khosravi Fig. 9 from a free fill of the same box: every cell below each
+    layer's surface read (none NaN), reported with its own run folder."""
+    import csv
+    import json
+
+    from studies.khosravi import backfilling as bf_mod
+    from studies.khosravi.case import KhosraviCase
+    from studies.khosravi.compare import validate_khosravi
+
+    case = KhosraviCase(H=0.1, particles_scale=5, wall_disp_over_H_max=0.001)
+    assert case.pluviation.hold_depth > 0  # the study's default holds deep layers
+    report = validate_khosravi(out_dir=tmp_path / "docs", root=tmp_path / "runs", quiet=True, case=case)
+    bf = report["backfilling"]
+    assert bf["hold_depth_m"] == 0.0 and bf["unread_cells_below_surface"] == 0
+    rows = list(csv.DictReader((tmp_path / "docs" / "khosravi" / "backfilling.csv").open()))
+    below = [r for r in rows if float(r["panel_centre_height_m"]) < float(r["surface_m"])]
+    assert below and all(r["sigma_h_kPa"] not in ("nan", "") for r in below)
+    saved = json.loads((tmp_path / "docs" / "khosravi.json").read_text())
+    assert saved["backfilling"]["run_folder"].endswith("backfilling")
+    assert "free fill" in (tmp_path / "docs" / "khosravi.md").read_text()
+    assert bf_mod.unread_cells([(1, 0.02, [1.0, float("nan"), 3.0])], 0.01) == 1
