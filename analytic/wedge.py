@@ -122,11 +122,15 @@ def _crack_depth(H, phi, gamma, c, a, delta, q) -> float:
 
 
 def cohesive_wedge(H: float, phi_deg: float, gamma: float, c: float = 0.0, adhesion: float = 0.0,
-                   delta_deg: float = 0.0, q: float = 0.0, passive: bool = False) -> WedgeResult:
+                   delta_deg: float = 0.0, q: float = 0.0, passive: bool = False,
+                   tension_crack: bool = True) -> WedgeResult:
     """Critical c-a wedge (module docstring).
 
     H [m] > 0; phi_deg [deg] in [0, 90); gamma [N/m^3] > 0; c, adhesion a [Pa] >= 0 with
     a <= c; delta_deg [deg] in [0, phi]; q [Pa] >= 0 (uniform, vertical).
+    tension_crack=False gives the active thrust "before the crack forms" (textbooks'
+    1/2 Ka gamma H^2 - 2 c H sqrt(Ka) when delta = a = 0): the uncracked wedge, its
+    tension counted.
     """
     H = require_number("H", H, 0.0, None, unit="m")
     phi_deg = require_number("phi", phi_deg, 0.0, 90.0, lo_open=False, unit="deg")
@@ -138,7 +142,7 @@ def cohesive_wedge(H: float, phi_deg: float, gamma: float, c: float = 0.0, adhes
     if phi_deg == 0.0 and delta_deg > 0.0:
         raise InvalidParameter("delta", delta_deg, "0 deg when phi = 0")
     phi, delta = math.radians(phi_deg), math.radians(delta_deg)
-    z_c = 0.0 if passive else _crack_depth(H, phi, gamma, c, adhesion, delta, q)
+    z_c = 0.0 if passive or not tension_crack else _crack_depth(H, phi, gamma, c, adhesion, delta, q)
     if z_c >= H:
         return WedgeResult(0.0, 0.0, math.nan, H, passive)
     P, t = _critical(H, phi, gamma, c, adhesion, delta, q, z_c, passive)
