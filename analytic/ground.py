@@ -44,6 +44,7 @@ from .errors import InvalidParameter, NotApplicable
 from .inputs import Wall, require_number, require_vertical_level
 from .profile import Profile
 from .surcharge import LineLoad, StripLoad
+from .wedge import cohesive_wedge
 
 GAMMA_WATER = 9.81e3            # N/m^3
 METHODS = ("rankine", "coulomb", "ec7-annex-c")
@@ -306,13 +307,15 @@ def _part(F, M, H, horizontal_factor) -> Part:
 
 def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive: bool = False, *,
                    line_loads: tuple = (), strip_loads: tuple = (), adhesion_ratio: float = 0.0,
-                   points_per_segment: int = 40) -> DesignProfile:
+                   points_per_segment: int = 40, trial_wedge: bool = False) -> DesignProfile:
     """Design earth pressure on the back face (module docstring for the equations).
 
     ground:          layers and water levels; the layers must add up to wall.height
     wall:            geometry, wall friction delta and uniform surcharge q = wall.surcharge
     method:          "rankine" | "coulomb" | "ec7-annex-c"
     adhesion_ratio:  a / c for the Coulomb cohesion coefficient (0 <= a/c <= 1)
+    trial_wedge:     also work Coulomb's c-a trial wedge (``wedge.py``, ~0.1 s) where it
+                     applies, into ``extra['trial_wedge']`` and the notes
     line_loads, strip_loads: ``surcharge.LineLoad`` / ``StripLoad`` (vertical wall only)
 
     Returns a ``DesignProfile`` whose ``parts`` give soil, surcharge (uniform q plus line
@@ -381,6 +384,12 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
     notes = []
     if method == "coulomb" and passive and abs(wall.delta_deg) > min(x.phi_deg for x in ground.layers) / 2:
         notes.append("planar-wedge Kp is unconservative for rough walls (delta > phi/2)")
+    extra = {"N_q_uniform": N_q_uniform, "omega_deg": wall.omega_deg}
+    wedge = _trial_wedge(method, ground, wall, passive, a_c, line_loads or strip_loads) if trial_wedge else None
+    if wedge is not None:
+        extra["trial_wedge"] = wedge
+        notes.append(f"c-a trial wedge: {wedge.P_h / 1e3:.2f} kN/m horizontal, crack {wedge.crack_depth:.3f} m "
+                     "(the profile uses EN 1997-1 C.1)")
     if crack > 0:
         notes.append(f"tension crack to {crack:.3f} m: the negative active stress above it is not counted")
     if ground.water_depth is not None and ground.water_depth >= H:
@@ -388,8 +397,20 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
     return DesignProfile(method=method, passive=passive, H=H, z=z, sigma_soil=s0, sigma_q=sq,
                          sigma_loads=loads, u=u, u_front=u_front, direction_deg=math.degrees(direction),
                          parts=parts, K_layers=tuple(c[0] for c in coeffs), tension_crack_depth=crack,
-                         source=_SOURCES[method], notes="; ".join(notes),
-                         extra={"N_q_uniform": N_q_uniform, "omega_deg": wall.omega_deg})
+                         source=_SOURCES[method], notes="; ".join(notes), extra=extra)
+
+
+def _trial_wedge(method, ground, wall, passive, a_c, loads):
+    """Coulomb's c-a trial wedge (``wedge.py``) beside the C.1 profile, for the case it is
+    set up for: one cohesive layer, no water on the wall, vertical back, level fill, no
+    line or strip loads; None otherwise."""
+    x = ground.layers[0]
+    wet = ground.water_depth is not None and ground.water_depth < wall.height
+    if (method != "coulomb" or len(ground.layers) != 1 or x.cohesion == 0.0 or wet or loads
+            or wall.delta_deg < 0.0):
+        return None
+    return cohesive_wedge(wall.height, x.phi_deg, x.unit_weight, x.cohesion, a_c * x.cohesion,
+                          wall.delta_deg, wall.surcharge, passive)
 
 
 def _insert_zero_crossings(z, a, b, layer_of):

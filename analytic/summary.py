@@ -83,7 +83,7 @@ def _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion
     why = "derived for a dry, uniform, cohesionless fill without line or strip loads"
     plan = [(m, (lambda m=m: earth_pressure(ground, wall, m, passive, line_loads=line_loads,
                                             strip_loads=strip_loads,
-                                            adhesion_ratio=adhesion_ratio).as_profile()))
+                                            adhesion_ratio=adhesion_ratio, trial_wedge=True).as_profile()))
             for m in DESIGN_METHODS]
     plan.append(("log-spiral", why if passive else "passive theory (add --passive)"))
     plan += [(m, why) for m in ("jaky", "mononobe-okabe", "handy", "paik-salgado", "khosravi", "janssen")]

@@ -221,10 +221,13 @@ def _ground_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: 
     strata of the fill; kN -> N). Each effective part acts at delta (beta for Rankine) to
     the face normal, P = N / cos(delta); the water part is normal to the face. Seismic
     (Mononobe-Okabe) only for a dry, uniform, cohesionless fill (Annex C static thrust,
-    same ratio rule)."""
+    same ratio rule). Refused otherwise: EN 1998-5 Annex E gives a submerged fill its own
+    gamma*, seismic angle and (pervious soil) hydrodynamic thrust, and M-O has no c'; none
+    of it is implemented, and no published example to check it against was found."""
     if (kh > 0 or kv != 0) and (fill.cohesive or water_level > 0 or fill.layers):
         raise InvalidParameter("seismic.alpha", kh, "0 with a cohesive, submerged or layered fill",
-                               "Mononobe-Okabe is applied to a dry, uniform, cohesionless fill only")
+                               "Mononobe-Okabe is applied to a dry, uniform, cohesionless fill only; EN 1998-5 "
+                               "Annex E's water-table cases and c' are not implemented here")
     H = back.height
     layers = tuple(Layer(b - t, x.phi, x.gamma * 1e3, x.c * 1e3, None if x.gamma_sat is None else x.gamma_sat * 1e3)
                    for t, b, x in fill.strata(H))

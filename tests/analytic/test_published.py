@@ -80,3 +80,97 @@ def test_janssen_and_jaky_against_xcfem_quantity():
     assert math.isclose(-trapezoid(-zi, sig_j), j["janssen_quantity"], rel_tol=j["rtol"])
     sig_k = jaky(s, Wall(j["H"])).K * gamma * zi
     assert math.isclose(-trapezoid(-zi, sig_k), j["jaky_quantity"], rel_tol=j["rtol"])
+
+
+# ---- worked examples of Das's textbooks, as transcribed in the FOSSEE Python Textbook
+# ---- Companion (sources, inputs and printed figures in analytic_published.json)
+def _ground(case, **kw):
+    from analytic.ground import Ground, Layer
+    layers = tuple(Layer(x["thickness"], x["phi"], x["gamma"] * 1e3, x.get("c", 0.0) * 1e3,
+                         x["gamma_sat"] * 1e3 if "gamma_sat" in x else None) for x in case["layers"])
+    return Ground(layers, water_depth=case["water_depth"], unit_weight_water=case["gamma_w"] * 1e3, **kw)
+
+
+def _at(profile, z):
+    """The soil stresses [kPa] tabulated at depth z (above, below when z is an interface)."""
+    return profile.sigma_soil[np.isclose(profile.z, z)] / 1e3
+
+
+def test_das_pge_13_4_layered_backfill_with_water():
+    """Published: Das PGE Example 13.4: 16 and 13.0 kPa either side of the interface,
+    Pa = 117.15 kN/m at 1.78 m. wallsim: 16.000 / 13.008 kPa, 117.155 kN/m (73.010 soil +
+    44.145 water) at 1.781 m."""
+    from analytic.ground import earth_pressure
+    c = REF["das_pge_13_4_layered_water"]
+    d = earth_pressure(_ground(c), Wall(c["H"]))
+    above, below = _at(d, 3.0)
+    assert round(above, 1) == c["sigma_top_layer_3m_kPa"] and round(below, 1) == c["sigma_bottom_layer_3m_kPa"]
+    N = d.parts["soil"].N + d.parts["water"].N
+    h = (d.parts["soil"].N * d.parts["soil"].height + d.parts["water"].N * d.parts["water"].height) / N
+    assert round(N / 1e3, 2) == c["Pa_kN"]
+    assert round(h, 2) == c["height_m"]
+
+
+def test_das_pfe_7_2_bell_c_phi_tension_crack():
+    """Published: Das PFE Example 7.2 (c' 14.36 kPa, phi' 26, H 6): crack 2.64 m, Pa after
+    the crack 38.32 kN/m at 1.12 m (companion, exact Ka); before the crack the book prints
+    14.46 kN/m with Ka = 0.39 and sqrt(Ka) = 0.625 (122.16 - 107.70), the companion 14.62
+    with the exact Ka: the rounding of two large terms moves their small difference by
+    1.1 %. wallsim: 2.641 m, 38.317 kN/m at 1.120 m; before the crack 14.615 kN/m."""
+    from analytic.ground import Ground, earth_pressure
+    from analytic.wedge import cohesive_wedge
+    c = REF["das_pfe_7_2_bell"]
+    d = earth_pressure(Ground.uniform(c["H"], c["phi"], c["gamma"] * 1e3, c["c"] * 1e3), Wall(c["H"]))
+    assert round(d.tension_crack_depth, 2) == c["crack_depth_m"]
+    assert round(d.parts["soil"].N / 1e3, 2) == c["Pa_after_crack_kN"]
+    assert round(d.parts["soil"].height, 2) == c["height_after_crack_m"]
+    before = cohesive_wedge(c["H"], c["phi"], c["gamma"] * 1e3, c["c"] * 1e3, tension_crack=False)
+    assert round(before.P / 1e3, 2) == c["Pa_before_crack_companion_kN"]
+    # the book's 14.46 is the same expression with its rounded Ka and sqrt(Ka), the base
+    # pressures rounded to 0.01 kPa first: 1/2 H (40.72) - H (17.95) = 122.16 - 107.70
+    soil = round(c["gamma"] * c["H"] * c["Ka_printed"], 2) * c["H"] / 2
+    coh = round(2 * c["c"] * c["sqrtKa_printed"], 2) * c["H"]
+    assert (round(soil, 2), round(coh, 2)) == (122.16, 107.70)
+    assert round(soil - coh, 2) == c["Pa_before_crack_printed_kN"]
+
+
+def test_das_pge_13_5_undrained_clay_crack():
+    """Published: Das PGE Example 13.5 (phi = 0, c_u 10, gamma 16.5, H 6): 177.0 kN/m before
+    the crack, 189.1 after, z_o 1.21 m. wallsim (c-a wedge, delta = a = 0, i.e. Bell with
+    Ka = 1): 177.000, 189.121 kN/m, 1.2121 m."""
+    from analytic.wedge import cohesive_wedge
+    c = REF["das_pge_13_5_undrained"]
+    args = (c["H"], c["phi"], c["gamma"] * 1e3, c["c_u"] * 1e3)
+    assert round(cohesive_wedge(*args, tension_crack=False).P / 1e3, 1) == c["Pa_before_crack_kN"]
+    after = cohesive_wedge(*args)
+    assert round(after.P / 1e3, 1) == c["Pa_after_crack_kN"]
+    assert round(after.crack_depth, 2) == c["crack_depth_m"]
+
+
+def test_das_pfe_7_7_passive_layered_cohesive_with_water():
+    """Published: Das PFE Example 7.7, Rankine-Bell passive: 94.32 kPa (sand) and 112.53 kPa
+    (clay) at 2 m, 135.7 kPa at 3 m. wallsim: 94.320, 112.527, 135.704 kPa; water apart
+    (9.81 kPa at 3 m)."""
+    from analytic.ground import earth_pressure
+    c = REF["das_pfe_7_7_passive_layered"]
+    d = earth_pressure(_ground(c), Wall(c["H"]), passive=True)
+    sand, clay = _at(d, 2.0)
+    assert round(sand, 2) == c["sigma_p_2m_sand_kPa"] and round(clay, 2) == c["sigma_p_2m_clay_kPa"]
+    assert round(d.sigma_soil[-1] / 1e3, 1) == c["sigma_p_3m_kPa"]
+    assert d.u[-1] / 1e3 == pytest.approx(9.81, rel=1e-12)
+
+
+def test_das_pge_14_1_passive_coulomb_and_log_spiral():
+    """Published: Das PGE Example 14.1 (phi' 30, delta' 15): Coulomb Kp 4.977 (Table 13.9),
+    Pp 351.6 kN/m: wallsim 4.9765, 351.6. Curved surfaces: Terzaghi & Peck chart 4.53,
+    Zhu & Qian 4.56, Shields & Tolunay (method of slices) 4.13. wallsim's trial log-spiral
+    4.615 is +1.9 % on the chart value (not within 0.5 %; reported in the JSON, not
+    tuned); asserted only what must hold: between the method of slices and Coulomb."""
+    from analytic.logspiral import terzaghi_log_spiral_kp
+    c = REF["das_pge_14_1_passive_curved"]
+    p = coulomb(Soil(c["phi"], c["gamma"] * 1e3), Wall(c["H"], c["delta"]), passive=True)
+    assert round(p.K, 3) == c["Kp_coulomb"]
+    assert round(p.thrust / 1e3, 1) == c["Pp_coulomb_kN"]
+    K, _ = terzaghi_log_spiral_kp(c["phi"], c["delta"])
+    assert c["Kp_shields_tolunay"] < K < c["Kp_coulomb"]
+    assert round(K, 3) == 4.615     # the figure the JSON's "found" reports

@@ -119,3 +119,12 @@ def test_layers_not_adding_up_refused(tmp_path, capsys):
     code, out, err = run_main(capsys, "theory", "--H", "3", "--layers", str(f))
     assert code == 2 and err.count("\n") == 1 and out == ""
     assert "layers = 2 is outside the valid range thicknesses adding up to H = 3 m" in err
+
+
+def test_cohesive_coulomb_row_names_the_trial_wedge(capsys):
+    """Issue 21: with --c the coulomb row keeps the EN 1997-1 C.1 profile and names the
+    c-a trial wedge's thrust beside it (phi 30, delta 20, c 10 kPa, H 6, gamma 18: 41.43
+    kN/m horizontal, crack 1.936 m; tests/analytic/test_wedge.py)."""
+    _, by = theory_json(capsys, "--phi", "30", "--delta", "20", "--c", "10", "--H", "6", "--gamma", "18")
+    assert "c-a trial wedge: 41.43 kN/m horizontal, crack 1.936 m" in by["coulomb"]["notes"]
+    assert "EN 1997-1 C.1" in by["coulomb"]["source"]
