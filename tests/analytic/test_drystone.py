@@ -111,13 +111,47 @@ def test_reference_case_a_table(name, h, b, b_c, l1, alpha, phi_b, W, hw_s, hw_t
         assert 20.0 * sec.area_m2() == pytest.approx(W, abs=0.05 + 20 * h * 0.005)
 
 
-def test_v2l_stands_in_sliding_with_water_to_its_crest():
-    """Ref. 2.3 predicts sliding at 2.01 m for V2L, h = 1.95 m: the closed form extended
-    above the crest; the result says the wall would stand in sliding."""
-    r = water_limit_equilibrium(WallSection(1.95, 0.70, 0.0), 36.0, 20.0)
-    assert r.sliding_height_m > 1.95 and r.mode == "toppling" and not r.stands_to_crest
-    tall = water_limit_equilibrium(WallSection(1.0, 1.5, 0.0), 36.0, 20.0)
-    assert tall.stands_to_crest and tall.critical_height_m > 1.0
+# Ref. 2.3 "Sensitivity of b": the widths back-fitted at other unit weights and under the
+# percent reading of the batter (lambda1 8.53 deg, V4L 5.71 deg), each fitted so that the
+# lowest mechanism fails at the measured height (ref. 2.1: 1.74, 1.78, 3.37, 1.90, 3.62 m).
+WALLS = [("V1L", 2.0, 15.0, 8.53, 0.0, 36.0, 1.74, "sliding"), ("V2L", 1.95, 0.0, 0.0, 0.0, 36.0, 1.78, "toppling"),
+         ("V3L", 4.0, 15.0, 8.53, 0.0, 36.0, 3.37, "sliding"), ("V4L", 2.0, 7.5, 5.71, 0.0, 36.0, 1.90, "toppling"),
+         ("V5S", 4.25, 15.0, 8.53, 8.53, 28.5, 3.62, "sliding")]
+SENSITIVITY = [(18.0, "deg", (0.84, 0.74, 1.60, 0.82, 1.80)), (22.0, "deg", (0.73, 0.67, 1.41, 0.75, 1.56)),
+               (20.0, "percent", (0.69, 0.70, 1.32, 0.77, 1.42))]
+
+
+@pytest.mark.parametrize("gamma_m,reading,widths", SENSITIVITY, ids=["gamma18", "gamma22", "percent"])
+def test_reference_width_sensitivity(gamma_m, reading, widths):
+    """Each fitted b (to 0.01 m) must bracket the measured height: our critical heights at
+    b - 0.005 and b + 0.005 enclose it (+-0.005 m for its own rounding). Modes: "same
+    modes" as observed for the degree reading; under the percent reading "every wall is
+    then predicted T; for the three sliding walls, sliding is only 1-3 % higher" (we get
+    0.8-3.1 %, V5S lowest, so the bound checked is 0.5-3.5 %)."""
+    for (name, h, l1_deg, l1_pct, alpha, phi_b, measured, mode), b in zip(WALLS, widths):
+        l1 = l1_deg if reading == "deg" else l1_pct
+        lo, hi = (water_limit_equilibrium(WallSection(h, b + db, l1, 0.0, alpha), phi_b, gamma_m)
+                  for db in (-0.005, 0.005))
+        assert lo.critical_height_m - 0.005 <= measured <= hi.critical_height_m + 0.005, name
+        expect = mode if reading == "deg" else "toppling"
+        assert lo.mode == hi.mode == expect, name
+        if reading == "percent" and mode == "sliding":
+            assert 1.005 <= lo.sliding_height_m / lo.toppling_height_m <= 1.035, name
+
+
+def test_a_mechanism_no_level_reaches_below_the_crest_reports_its_base_value():
+    """Ref. 2.3 predicts sliding at 2.01 m for V2L, h = 1.95 m: the closed form of 5.4
+    extended above the crest at the base joint (our V2L sliding value is that of z = 0).
+    Hand check on a squat rectangle h 1, b 1.5, phi_b 36, gamma_m 20: sliding at the
+    base needs h_w = sqrt(2 x 30 x tan 36 / 9.81) = 2.0943 m > h; the toppling cubic
+    about the toe along the base gives (3 x 30 x 1.5 / 9.81)^(1/3) = 2.3973 m; the wall
+    stands with water to its crest."""
+    v2l = water_limit_equilibrium(WallSection(1.95, 0.70, 0.0), 36.0, 20.0)
+    assert v2l.sliding_level_m == 0.0 and v2l.sliding_height_m > 1.95 and not v2l.stands_to_crest
+    r = water_limit_equilibrium(WallSection(1.0, 1.5, 0.0), 36.0, 20.0, method="bed-joints")
+    assert r.sliding_height_m == pytest.approx(math.sqrt(2 * 30 * math.tan(math.radians(36)) / GAMMA_W), rel=1e-9)
+    assert r.toppling_height_m == pytest.approx((3 * 30 * 1.5 / GAMMA_W) ** (1 / 3), rel=1e-9)
+    assert (r.mode, r.mechanism_level_m, r.stands_to_crest) == ("sliding", 0.0, True)
 
 
 def test_disk_count_sections():
@@ -186,7 +220,7 @@ def _section(p):
     return WallSection(h, taper + frac * h, l1, l2, a)
 
 
-@settings(max_examples=15, deadline=None)
+@settings(max_examples=10, deadline=None)
 @given(sections, st.floats(20.0, 40.0), st.floats(18.0, 22.0))
 def test_bed_joints_never_below_yield_design(p, phi_b, gamma_m):
     """The yield-design search contains every bed-joint mechanism (z over [0, h), theta
@@ -199,7 +233,7 @@ def test_bed_joints_never_below_yield_design(p, phi_b, gamma_m):
     assert yd.critical_height_m <= bj.critical_height_m * (1 + 1e-9)
 
 
-@settings(max_examples=10, deadline=None)
+@settings(max_examples=8, deadline=None)
 @given(sections, st.floats(18.0, 22.0))
 def test_sliding_height_grows_with_phi_b(p, gamma_m):
     """Ref. 5.4: h_w,S rises with tan(alpha + phi_b) at every joint, so its minimum does."""
