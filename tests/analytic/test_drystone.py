@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from analytic.drystone import (GAMMA_W, METHODS, WallSection, band, coulomb_ka, toppling_water_height,
-                               water_band, water_limit_equilibrium)
+from analytic.drystone import (GAMMA_W, METHODS, WallSection, backfill_limit_equilibrium, band, coulomb_ka,
+                               toppling_water_height, water_band, water_limit_equilibrium)
 from analytic.errors import InvalidParameter
 
 
@@ -180,6 +180,43 @@ def test_coulomb_ka_check_values():
     assert (ka, ka * c, ka * s) == (pytest.approx(0.416, abs=5e-4), pytest.approx(0.329, abs=5e-4),
                                     pytest.approx(0.255, abs=5e-4))
     assert coulomb_ka(37.7, 37.7, 0.0) == pytest.approx(0.228, abs=5e-4)
+
+
+def test_backfill_rectangle_by_hand():
+    """Case B coupling (ref. 5.3): p = gamma_s (H_b - y) K_a. Rectangle h 2, b 0.6,
+    gamma_m 22 (W = 26.4 kN/m), phi_b 20; fill gamma_s 18, phi 30, delta 0, beta 0 ->
+    K_a = 1/3 (Rankine). Sliding on the base: gamma_s K_a H_b^2 / 2 = W tan 20
+    -> H_b = sqrt(2 x 26.4 x 0.36397 / 6) = 1.7897 m. Toppling about the toe along the
+    base: gamma_s K_a H_b^3 / 6 = W b / 2 -> H_b = (3 x 26.4 x 0.6 / 6)^(1/3) = 1.9933 m."""
+    W, T = 26.4, math.tan(math.radians(20))
+    hs, ht = math.sqrt(2 * W * T / 6), (3 * W * 0.6 / 6) ** (1 / 3)
+    assert (hs, ht) == (pytest.approx(1.7897, abs=1e-4), pytest.approx(1.9933, abs=1e-4))
+    r = backfill_limit_equilibrium(WallSection(2.0, 0.6, 0.0), 20.0, 22.0, 18.0, 30.0, 0.0, 0.0,
+                                   method="bed-joints", course_height_m=0.25)
+    assert r.sliding_height_m == pytest.approx(hs, rel=1e-8)
+    assert r.toppling_height_m == pytest.approx(ht, rel=1e-8)
+    assert (r.mode, r.mechanism_level_m, r.load) == ("sliding", 0.0, "backfill")
+
+
+# Ref. 3.3, case-B widths back-fitted with the 5.6 coupling: h 2.5, lambda1 = alpha = 8.53,
+# gamma_m 20, gamma_s 14.9, phi 37.7, beta 32, m 0.73; phi_b 25 (schist), 35 (C4L);
+# measured H_b (ref. 3.1): C2S 2.30, C3S 2.78, C4L 2.72; "toppling governs" except C2S at
+# delta 0 where "sliding 2.42 ~ toppling 2.30"; C2S at delta = phi: "sliding capacity well
+# above (3.11 against 2.30)".
+CASE_B = [("C2S", 37.7, 0.53, 25.0, 2.30, 3.11), ("C2S", 25.1, 0.60, 25.0, 2.30, None),
+          ("C2S", 0.0, 0.73, 25.0, 2.30, 2.42), ("C3S", 25.1, 0.76, 25.0, 2.78, None),
+          ("C4L", 25.1, 0.75, 35.0, 2.72, None)]
+
+
+@pytest.mark.parametrize("name,delta,b,phi_b,measured,sliding", CASE_B, ids=[f"{c[0]}-d{c[1]}" for c in CASE_B])
+def test_reference_case_b_widths(name, delta, b, phi_b, measured, sliding):
+    """Within the rounding of b (+-0.005 m) and of the heights (+-0.005 m), as for case A."""
+    lo, hi = (backfill_limit_equilibrium(WallSection(2.5, b + db, 8.53, 0.0, 8.53), phi_b, 20.0, 14.9, 37.7,
+                                         delta, 32.0, staircase_m=0.73) for db in (-0.005, 0.005))
+    assert lo.critical_height_m - 0.005 <= measured <= hi.critical_height_m + 0.005
+    assert lo.mode == hi.mode == "toppling"
+    if sliding is not None:
+        assert lo.sliding_height_m - 0.005 <= sliding <= hi.sliding_height_m + 0.005
 
 
 def test_bad_input_names_the_parameter():
