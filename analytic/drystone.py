@@ -73,6 +73,11 @@ def _clip_above(poly: list[Point], point: Point, slope: float) -> list[Point]:
     return clip_above(poly, point, slope)
 
 
+def crest_width(height_m: float, base_width_m: float, batter_outer_deg: float, batter_inner_deg: float) -> float:
+    """b_c = b - h (tan lambda1 + tan lambda2) [m] (ref. 5.3 trapezoid), unchecked."""
+    return base_width_m - height_m * (_tan(batter_outer_deg) + _tan(batter_inner_deg))
+
+
 @dataclass(frozen=True)
 class WallSection:
     """Plane section of a dry-stone wall (ref. 1 notation, ref. 5.3 coordinates).
@@ -108,7 +113,7 @@ class WallSection:
     @property
     def crest_width_m(self) -> float:
         """b_c = b - h (tan lambda1 + tan lambda2) [m]."""
-        return self.base_width_m - self.height_m * (_tan(self.batter_outer_deg) + _tan(self.batter_inner_deg))
+        return crest_width(self.height_m, self.base_width_m, self.batter_outer_deg, self.batter_inner_deg)
 
     def x_outer(self, y: float) -> float:
         """x_o(y) = y tan(lambda1) [m] (ref. 5.3)."""
@@ -224,7 +229,7 @@ def water_thrust(section: WallSection, y_I: float, h_w: float) -> tuple[float, f
     [kN/m], horizontal, outward, at y_H = y_I + (h_w - y_I) / 3; V = H tan(lambda2)
     [kN/m], downward, at the face point x_i(y_H). Returns (H, V, x_H, y_H)."""
     d = max(h_w - y_I, 0.0)
-    H = 0.5 * GAMMA_W * d * d
+    H = 0.5 * GAMMA_W * d ** 2
     y_H = y_I + d / 3
     return H, H * _tan(section.batter_inner_deg), section.x_inner(y_H), y_H
 

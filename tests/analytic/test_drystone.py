@@ -278,3 +278,22 @@ def test_sliding_height_grows_with_phi_b(p, gamma_m):
     hs = [water_limit_equilibrium(sec, phi, gamma_m, method="bed-joints").sliding_height_m
           for phi in (20.0, 27.0, 34.0, 41.0)]
     assert all(a < b for a, b in zip(hs, hs[1:]))
+
+
+@pytest.mark.parametrize("h,b,l1,alpha,phi_b,m", [(2.0, 0.78, 15.0, 0.0, 36.0, 0.0), (1.95, 0.70, 0.0, 0.0, 36.0, 0.0),
+                                                  (4.25, 1.67, 15.0, 8.53, 28.5, 0.0), (1.95, 0.70, 0.0, 0.0, 36.0, 0.83)])
+def test_design_block_wall_gives_the_same_critical_water_height(h, b, l1, alpha, phi_b, m):
+    """Issue 29: a block wall checked through the design module (factors of safety all 1,
+    bisection on utilisation 1 to 1e-6 m) gives the same critical water height, mechanism
+    and joint as this module: bed joints at k h / courses (m = 0), or the staircase lines
+    of ref. 5.5 (m > 0; here the minimum sits at the base, where both search theta)."""
+    from analytic.design import DesignCase
+    from analytic.design.blocks import BlockWall, critical_water_height
+    from analytic.design.factors import load_factors
+    wall = BlockWall(h, b, l1, 0.0, courses=10, joint_slope=alpha, joint_friction=phi_b, unit_weight=20.0,
+                     stair_slope=m)
+    hw, mech, z = critical_water_height(DesignCase(wall, None), load_factors().combinations["FS"])
+    r = water_limit_equilibrium(WallSection(h, b, l1, 0.0, alpha), phi_b, 20.0, staircase_m=m,
+                                method="bed-joints" if m == 0 else "yield-design", course_height_m=h / 10)
+    assert hw == pytest.approx(r.critical_height_m, abs=2e-6)
+    assert ({"overturning": "toppling"}.get(mech, mech), z) == (r.mode, r.mechanism_level_m)
