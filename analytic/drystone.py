@@ -62,6 +62,8 @@ def _tan(deg: float) -> float:
     return math.tan(math.radians(deg))
 
 
+# design/blocks.py builds on this module, so the polygon helpers of analytic/design are
+# imported on first use (a module-level import would be circular through design/__init__)
 def _area_centroid(poly: list[Point]) -> tuple[float, float, float]:
     """Area [m2] and centroid [m] of a simple polygon (shoelace)."""
     from .design.geometry import area_centroid
@@ -568,7 +570,8 @@ def band(results: Mapping[str, LimitEquilibrium]) -> Band:
 def water_band(sections: Mapping[str, WallSection], phi_b_deg: float, gamma_m_values: Iterable[float],
                joint_slopes_deg: Iterable[float] | None = None, **kwargs) -> Band:
     """``water_limit_equilibrium`` over every section x unit weight [kN/m3] x joint slope
-    alpha [deg] (None: each section's own); labels "<section> gamma_m=<g> alpha=<a>".
+    alpha [deg] (None: each section's own); labels "<section> gamma_m=<g> alpha=<a>";
+    ``kwargs`` go to ``water_limit_equilibrium`` (staircase_m, method, course_height_m).
     Issue 23 asks for both geometries (ref. 2.3 and 6), gamma_m 18-22 and alpha 0-8.5 deg."""
     out = {}
     gammas = list(gamma_m_values)
