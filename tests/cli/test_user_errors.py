@@ -166,6 +166,23 @@ LONG = [
 ]
 
 
+def _cpu_seconds(pid: int) -> float:
+    """CPU time used so far by process ``pid`` (Linux /proc: utime + stime)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _wait_until(proc, ready, what: str, limit_s: float = 900.0) -> None:
+    """Poll until ``ready()``: how far a run has got, measured by what it has done (CPU
+    time, files) rather than by the clock, so a loaded machine interrupts it at the same
+    point (a fixed sleep caught some runs before their run folder existed)."""
+    t0 = time.monotonic()
+    while not ready():
+        assert proc.poll() is None, f"finished before {what}: " + proc.communicate()[1][-300:]
+        assert time.monotonic() - t0 < limit_s, f"not {what} after {limit_s:.0f} s"
+        time.sleep(0.2)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("argv,resumable", LONG, ids=[" ".join(a[:2]) for a, _ in LONG])
 def test_ctrl_c_stops_with_one_line_and_exit_130(argv, resumable, tmp_path):
@@ -175,9 +192,12 @@ def test_ctrl_c_stops_with_one_line_and_exit_130(argv, resumable, tmp_path):
     env = dict(os.environ, NUMBA_NUM_THREADS="1")
     proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), *argv, "--quiet", "--out", str(tmp_path)],
                             cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    time.sleep(8.0)
+    if resumable:  # into the movement: its first checkpoint exists
+        _wait_until(proc, lambda: any(tmp_path.glob("*/*/checkpoints/*")), "at a checkpoint")
+    else:  # as far in as 6 s of an idle machine's run
+        _wait_until(proc, lambda: _cpu_seconds(proc.pid) >= 6.0, "6 s of CPU in")
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=60)
+    out, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
     assert "Traceback" not in err and "Exception ignored" not in err
     last = err.strip().splitlines()[-1]
@@ -224,9 +244,10 @@ def test_the_printed_resume_command_continues_where_the_run_started(tmp_path):
     proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), "compare", "nadukuru", "--particles", "3000",
                              "--no-rrd", "--quiet", "--out", str(root)], cwd=tmp_path, env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    time.sleep(10.0)                 # into the wall movement: a checkpoint holds part of it
+    _wait_until(proc, lambda: any(root.glob("nadukuru/*/checkpoints/movement.npz")),  # part of the movement saved
+                "at a checkpoint")
     proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
+    _, err = proc.communicate(timeout=120)
     line = err.strip().splitlines()[-1]
     assert proc.returncode == 130 and "--resume" in line
     folder = Path(line.split("--resume ", 1)[1])
