@@ -443,7 +443,7 @@ def _cmd_seeds(cmd, args) -> int:
     from studies.seeds import run_seeds, seeds_text
 
     if hasattr(args, "seed"):
-        raise InvalidParameter("--seed", args.seed, "no --seed with --seeds", "--seeds gives the seeds")
+        raise InvalidParameter("--seed", args.seed, "none when --seeds is given", "--seeds names every seed")
     options = {o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None}
     try:
         report = run_seeds(args.study, args.seeds, verb=cmd.verb, config=args.config, flags=typed_flags(cmd, args),
