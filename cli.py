@@ -363,14 +363,32 @@ def _add_study_command(sub, study, cmd) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--out", default="runs", metavar="DIR", type=_argparse_type(output_folder("out"), "out"),
                    help="root of the run folders (runs)")
+    if cmd.figures is not None and cmd.seed_key is not None:
+        _add_seeds_options(p)
     p.set_defaults(func=lambda args: _cmd_study(cmd, args))
+
+
+def _add_seeds_options(p) -> None:
+    """--seeds (and where its runs go) for a command that declares figures."""
+    from studies.seeds import parse_seeds
+    p.add_argument("--seeds", type=_argparse_type(parse_seeds, "seeds"), default=None, metavar="A..B|S1,S2",
+                   help="run once per seed on Dask (one run folder each under --out) and report each figure's "
+                        "mean +- sd over the seeds against the paper's tolerance (<docs>/<study>_seeds.md)")
+    p.add_argument("--workers", type=_count("workers"), default=None,
+                   help="with --seeds: worker processes of the local cluster (the cores)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="with --seeds: an existing Dask cluster, e.g. tcp://host:8786")
+
+
+def typed_flags(cmd, args) -> dict:
+    """Case key -> value of the case flags the user typed (the others are absent from ``args``)."""
+    return {o.key: (o.to_case(getattr(args, o.dest)) if o.to_case else getattr(args, o.dest))
+            for o in cmd.options if o.key is not None and hasattr(args, o.dest)}
 
 
 def case_from_args(cmd, args):
     """The case a study command runs: only the flags the user typed count (the others
     are absent from ``args``), then ``cmd.resolve`` applies the precedence rule."""
-    flags = {o.key: (o.to_case(getattr(args, o.dest)) if o.to_case else getattr(args, o.dest))
-             for o in cmd.options if o.key is not None and hasattr(args, o.dest)}
+    flags = typed_flags(cmd, args)
     if hasattr(args, "seed"):
         flags[cmd.seed_key] = args.seed
     return cmd.resolve(config=args.config, flags=flags, sets=args.set, resume=getattr(args, "resume", None),
@@ -390,6 +408,10 @@ def _cmd_study(cmd, args) -> int:
     from studies.runner import finished_result
 
     runner.current_folder = None          # this command's folder, not an earlier one's
+    if getattr(args, "seeds", None) is not None:
+        return _cmd_seeds(cmd, args)
+    if getattr(args, "workers", None) is not None or getattr(args, "scheduler", None) is not None:
+        raise InvalidParameter("--workers/--scheduler", args.workers or args.scheduler, "only with --seeds")
     case = case_from_args(cmd, args)
     resume = getattr(args, "resume", None)
     if resume is not None and finished_result(resume) is not None:
@@ -415,6 +437,31 @@ def _cmd_study(cmd, args) -> int:
     return 0
 
 
+def _cmd_seeds(cmd, args) -> int:
+    """``--seeds``: the command once per seed on Dask, the seeds report (studies/seeds.py)."""
+    from studies.runfolder import to_plain
+    from studies.seeds import run_seeds, seeds_text
+
+    if hasattr(args, "seed"):
+        raise InvalidParameter("--seed", args.seed, "none when --seeds is given", "--seeds names every seed")
+    options = {o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None}
+    try:
+        report = run_seeds(args.study, args.seeds, verb=cmd.verb, config=args.config, flags=typed_flags(cmd, args),
+                           sets=args.set,
+                           options=options, out=args.out, workers=args.workers, scheduler=args.scheduler,
+                           quiet=args.quiet)
+    except KeyboardInterrupt:
+        print(f"wallsim: interrupted; the finished seeds are in their run folders under "
+              f"{os.path.join(args.out, args.study)}, and the same command runs the rest", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    print(json.dumps(to_plain(report), indent=2) if args.json else seeds_text(report))
+    failed = [p for p in report["points"] if p["status"] == "failed"]
+    for p in failed:
+        print(f"wallsim: seed {p['seed']} failed: {p['error']}", file=sys.stderr)
+    print(f"seeds report: {report['paths']['md']}", file=sys.stderr)
+    return 1 if failed else 0
+
+
 def _note_if_busy() -> None:
     from studies.progress import busy_machine_note
 
@@ -438,6 +485,9 @@ def _add_sweep(sub) -> None:
     p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
                    help="a case field for every point (after --config, before --vary)")
     p.add_argument("--config", metavar="FILE.toml", help="case settings for every point from a TOML file")
+    p.add_argument("--option", action="append", metavar="NAME[=VALUE]", default=[],
+                   help="a run option of the study's command for every point, as its flag without the dashes "
+                        "(repeatable), e.g. --option no-rrd, --option every=10")
     p.add_argument("--outputs", metavar="NAME,NAME", type=lambda t: [w.strip() for w in t.split(",") if w.strip()],
                    help="outputs to tabulate and draw (default: every number of the result's 'dem' record)")
     p.add_argument("--workers", type=_count("workers"), default=None,
@@ -451,11 +501,13 @@ def _add_sweep(sub) -> None:
 
 
 def _cmd_sweep(args) -> int:
-    from studies.sweep import parse_vary, run_sweep, sweep_text
+    from studies import get
+    from studies.sweep import parse_options, parse_vary, run_sweep, sweep_text
 
+    varied, options = parse_vary(args.vary), parse_options(get(args.study).command(), args.option)
     try:
-        table = run_sweep(args.study, parse_vary(args.vary), config=args.config, sets=args.set, out=args.out,
-                          workers=args.workers, scheduler=args.scheduler, quiet=args.quiet, outputs=args.outputs)
+        table = run_sweep(args.study, varied, config=args.config, sets=args.set, out=args.out, workers=args.workers,
+                          scheduler=args.scheduler, quiet=args.quiet, outputs=args.outputs, options=options or None)
     except KeyboardInterrupt:
         print(f"wallsim: interrupted; the finished points and sweep.csv are in {args.out}, and the same command "
               "runs the rest", file=sys.stderr)

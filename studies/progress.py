@@ -7,6 +7,7 @@ import os
 import sys
 import time
 from contextlib import contextmanager
+from contextvars import ContextVar
 
 from rich.console import Console
 from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
@@ -27,12 +28,35 @@ class _Silent:
         pass
 
 
+#: where the progress of the run in this thread goes instead of stderr (``logging_to``):
+#: a sweep point's run.log
+_log: ContextVar = ContextVar("wallsim_progress_log", default=None)
+
+
+@contextmanager
+def logging_to(stream, interval: float = 30.0):
+    """Within this block (this thread) ``progress`` writes timestamped lines to ``stream``
+    (at most every ``interval`` s per task) whether or not the run was asked to be quiet,
+    and ``log_stream`` is ``stream``: a sweep point keeps its progress in its own log,
+    not on the worker's stderr."""
+    token = _log.set((stream, interval))
+    try:
+        yield stream
+    finally:
+        _log.reset(token)
+
+
+def log_stream():
+    """Where a run's messages go: the point's log inside ``logging_to``, else stderr."""
+    return _log.get()[0] if _log.get() is not None else sys.stderr
+
+
 class _Lines:
     """rich.Progress's task interface, written as one line per task every ``interval`` s
     (and when a task completes) so a log file shows where a long run is."""
 
-    def __init__(self, stream=sys.stderr, interval: float = 30.0):
-        self.stream, self.interval, self.tasks = stream, interval, {}
+    def __init__(self, stream=None, interval: float = 30.0):
+        self.stream, self.interval, self.tasks = stream or sys.stderr, interval, {}
 
     def add_task(self, description, total=None, completed=0, **fields):
         tid = len(self.tasks)
@@ -71,8 +95,12 @@ def progress(quiet: bool = False):
     """Yield an object with rich.Progress's ``add_task``/``update``/``advance``.
 
     Shows step, stage and a free-text status field (e.g. unbalanced-force ratio,
-    dt/dt_crit) on stderr when stderr is a terminal.
+    dt/dt_crit) on stderr when stderr is a terminal; inside ``logging_to`` plain lines
+    in that log instead (``quiet`` or not).
     """
+    if _log.get() is not None:
+        yield _Lines(*_log.get())
+        return
     if quiet:
         yield _Silent()
         return

@@ -66,6 +66,10 @@ class Command:
     text:         result -> what a person reads (str or a rich renderable)
     seed_key:     the case key ``--seed`` sets (None: the case draws no random numbers)
     busy_note:    say on stderr when other jobs hold the cores (3D runs)
+    figures:      result -> the figures the command judges against the paper, each a
+                  ``studies.seeds.figure`` record (name, value, reference, window); a
+                  command with figures and a seed takes ``--seeds`` (mean +- sd over
+                  seeds, ``studies/seeds.py``)
     """
 
     verb: str
@@ -78,6 +82,7 @@ class Command:
     seed_key: str | None = "seed"
     seed_default: int = 1
     busy_note: bool = False
+    figures: Callable[[dict], list[dict]] | None = None
 
     def resolve(self, *, config: str | None = None, flags: dict[str, Any] | None = None,
                 sets: list[str] | None = None, resume: str | None = None, study: str | None = None):

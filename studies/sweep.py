@@ -84,6 +84,31 @@ def parse_vary(items: list[str]) -> list[tuple[str, list[str]]]:
     return varied
 
 
+def parse_options(cmd, items: list[str]) -> dict:
+    """``["no-rrd", "every=10"]`` -> ``{"no_rrd": True, "every": 10}``: run options of
+    ``cmd`` (its flags that set no case key) as the flag parses them; a switch takes no
+    value. ``InvalidParameter`` naming --option for an unknown name or a bad value."""
+    by_name = {o.flag.lstrip("-"): o for o in cmd.options if o.key is None}
+    options = {}
+    for item in items:
+        name, eq, text = (s.strip() for s in item.partition("="))
+        opt = by_name.get(name.replace("_", "-"))
+        if opt is None or opt.dest in ("resume",):
+            raise InvalidParameter("--option", item, " | ".join(n for n in by_name if n != "resume"),
+                                   f"not a run option of {cmd.verb}")
+        if opt.switch or (opt.optional and not eq):
+            if eq:
+                raise InvalidParameter("--option", item, f"{name} alone (a switch)")
+            options[opt.dest] = True
+            continue
+        if not eq or not text:
+            raise InvalidParameter("--option", item, f"{name}=VALUE")
+        if opt.choices and text not in opt.choices:
+            raise InvalidParameter("--option", item, " | ".join(opt.choices))
+        options[opt.dest] = opt.parse(text) if opt.parse else text
+    return options
+
+
 def expand(varied: list[tuple[str, list[str]]]) -> list[Point]:
     """The Cartesian product of the varied values, the last key varying fastest."""
     keys = [k for k, _ in varied]
@@ -108,12 +133,44 @@ def lead_indices(points: list[Point], seed_at: int | None) -> list[list[int]]:
     return leads
 
 
-def point_name(point: Point, case) -> str:
-    """The point's run-folder name: its values, then a hash of the whole case (a rerun with
-    other shared settings makes new folders instead of skipping)."""
+#: run options that say where and how quietly a point runs, not what it computes: left
+#: out of the point's name
+_PLACE_OPTIONS = ("out", "quiet", "docs")
+
+#: an option value that ``run_point`` replaces by the point's own folder (``validate
+#: --seeds`` writes each seed's report there)
+POINT_FOLDER = "<point folder>"
+
+
+def point_name(point: Point, case, options: dict | None = None, prefix: str = "") -> str:
+    """The point's run-folder name: ``prefix``, its values, then a hash of the whole case
+    and of the run options that shape what it computes (a rerun with other shared
+    settings makes new folders instead of skipping)."""
     from .store import content_key
     words = "_".join(f"{k.split('.')[-1]}{v}" for k, v in point.values)
-    return re.sub(r"[^A-Za-z0-9._=-]", "-", words)[:120] + "-" + content_key(case, 8)
+    shaping = {k: v for k, v in (options or {}).items() if k not in _PLACE_OPTIONS}
+    key = content_key({"case": case, "options": shaping}, 8) if shaping else content_key(case, 8)
+    return re.sub(r"[^A-Za-z0-9._=-]", "-", prefix + words)[:120] + "-" + key
+
+
+def is_main(study, verb: str | None) -> bool:
+    """Whether ``verb`` is the study's main (first) command."""
+    return verb is None or verb == study.commands[0].verb
+
+
+def result_file(study, verb: str | None) -> str:
+    """The file that marks a point as finished: the main command's result.json (written
+    last by ``runner.finish``), or ``<verb>.json``, the result of another command
+    (validate) that ``run_point`` writes last."""
+    return "result.json" if is_main(study, verb) else f"{verb}.json"
+
+
+def point_outputs(cmd, result: dict) -> dict[str, float]:
+    """A point's outputs: the command's figures (name -> value) when it declares them,
+    else ``result_outputs``."""
+    if cmd.figures is not None:
+        return {f["name"]: f["value"] for f in cmd.figures(result)}
+    return result_outputs(result)
 
 
 def one_line(err: BaseException) -> str:
@@ -142,58 +199,108 @@ def result_outputs(result: dict) -> dict[str, float]:
     return numeric_leaves({k: v for k, v in result.items() if not isinstance(v, dict)})
 
 
-def finished_point(out: str | Path, name: str) -> dict | None:
-    """The row of a point whose run folder under ``out`` holds a finished run, else None."""
+def finished_point(out: str | Path, name: str, study: str, verb: str | None = None) -> dict | None:
+    """The row of a point whose run folder under ``out`` holds a finished run
+    (``result_file``), else None."""
     import json
-    from .runner import finished_result
+    from . import get
+    s = get(study)
     for folder in sorted(Path(out).glob(f"*/{name}")):
-        result = finished_result(folder)
-        if result is not None:
+        p = folder / result_file(s, verb)
+        if p.is_file():
+            result = json.loads(p.read_text())
             manifest = folder / "manifest.json"
             wall = json.loads(manifest.read_text()).get("wall_time_s") if manifest.is_file() else None
-            return {"status": "skipped", "error": None, "outputs": result_outputs(result),
-                    "wall_time_s": wall, "run_folder": str(folder)}
+            return {"status": "skipped", "error": None, "outputs": point_outputs(s.command(verb), result),
+                    "wall_time_s": wall if wall is not None else result.get("wall_time_s"),
+                    "run_folder": str(folder)}
     return None
 
 
-def run_point(study: str, verb: str | None, case, name: str, out: str, *after) -> dict:
-    """One point, in a worker: run the study's command on ``case`` into ``<out>/<study
-    folder>/<name>``; a raised error becomes the row's one-line ``error``. ``after``: the
-    rows of the points this one waited for (unused; they order the tasks)."""
+def run_point(study: str, verb: str | None, case, name: str, out: str, options: dict | None = None,
+              *after) -> dict:
+    """One point, in a worker: run the study's command on ``case`` with the run
+    ``options`` into ``<out>/<study folder>/<name>``; a raised error becomes the row's
+    one-line ``error``. The point's progress and start/end lines go to ``run.log`` in its
+    folder (appended: a point run again after a worker died says so), its run options to
+    run_options.json; a command other than the main one has its result written last as
+    ``<verb>.json``. ``after``: the rows of the points this one waited for (unused; they
+    order the tasks)."""
     from . import get
-    from .runner import named_run
+    from .progress import logging_to
+    from .runner import named_run, recorded_options
     t0 = time.perf_counter()
-    try:
-        with named_run(name):
-            result = get(study).run(case, verb, out=str(out), quiet=True)
-    except Exception as err:          # recorded for this point; the sweep goes on
-        return {"status": "failed", "error": one_line(err), "outputs": {},
-                "wall_time_s": time.perf_counter() - t0, "run_folder": None}
+    s = get(study)
+    folder = Path(out) / study / name
+    folder.mkdir(parents=True, exist_ok=True)
+    opts = {k: (str(folder) if v == POINT_FOLDER else v) for k, v in (options or {}).items()}
+    with open(folder / "run.log", "a", encoding="utf-8") as log, logging_to(log, interval=10.0):
+        _log_line(log, f"point {name}: {study} {s.command(verb).verb}, started on {_where()}")
+        try:
+            recorded = vars(s.command(verb).run_options(out=str(out), quiet=True, **opts))
+            with named_run(name), recorded_options(recorded):
+                result = s.run(case, verb, out=str(out), quiet=True, **opts)
+            _point_files(s, verb, folder, recorded, result)
+        except Exception as err:          # recorded for this point; the sweep goes on
+            _log_line(log, f"point failed after {time.perf_counter() - t0:.1f} s: {one_line(err)}")
+            return {"status": "failed", "error": one_line(err), "outputs": {},
+                    "wall_time_s": time.perf_counter() - t0, "run_folder": None}
+        _log_line(log, f"point finished in {time.perf_counter() - t0:.1f} s")
     folders = sorted(Path(out).glob(f"*/{name}"))
-    return {"status": "done", "error": None, "outputs": result_outputs(result),
+    return {"status": "done", "error": None, "outputs": point_outputs(s.command(verb), result),
             "wall_time_s": time.perf_counter() - t0, "run_folder": str(folders[0]) if folders else None}
 
 
+def _point_files(study, verb: str | None, folder: Path, options: dict, result: dict) -> None:
+    """run_options.json where the study opened no run folder that wrote it, then, for a
+    command other than the main one, its result as ``<verb>.json`` (last: it marks the
+    point finished)."""
+    import json
+    from .runfolder import to_plain
+    from .store import atomic_write
+    if not (folder / "run_options.json").is_file():
+        atomic_write(folder / "run_options.json", (json.dumps(to_plain(options), indent=2) + "\n").encode())
+    if not is_main(study, verb):
+        atomic_write(folder / result_file(study, verb), (json.dumps(to_plain(result), indent=2) + "\n").encode())
+
+
+def _log_line(log, text: str) -> None:
+    log.write(f"[{time.strftime('%Y-%m-%d %H:%M:%S')}] {text}\n")
+    log.flush()
+
+
+def _where() -> str:
+    """Host and process of this worker."""
+    import socket
+    return f"{socket.gethostname()} (pid {os.getpid()})"
+
+
 def build_points(study, varied, *, config: str | None = None, sets: list[str] | None = None,
-                 verb: str | None = None) -> list[dict]:
+                 verb: str | None = None, flags: dict | None = None, options: dict | None = None) -> list[dict]:
     """Every point with its case, before anything runs: ``{"point", "inputs", "case",
-    "name", "error"}``. An unknown varied key stops the sweep (``InvalidParameter``); a
-    value that the case refuses is that point's ``error`` (case None), the others go on."""
+    "name", "error"}``. Each case is resolved as the command line resolves one: defaults
+    < ``config`` < ``flags`` (case key -> value, the typed flags) < ``sets`` < the point's
+    values. An unknown varied key or run option stops the sweep (``InvalidParameter``); a
+    value that the case refuses is that point's ``error`` (case None), the others go on.
+    A command other than the main one prefixes its points' names with its verb."""
     from .config import case_value
     from .runfolder import to_plain
     cmd = study.command(verb)
-    default = cmd.resolve(config=config, sets=sets)      # a bad --set/--config stops everything
+    default = cmd.resolve(config=config, flags=flags, sets=sets)    # a bad --set/--config stops everything
+    cmd.run_options(**(options or {}))                                # an unknown run option too
     for key, _ in varied:
         try:
             case_value(default, key)
         except InvalidParameter as err:
             raise InvalidParameter("--vary", key, err.valid, err.why) from None
+    prefix = "" if is_main(study, verb) else f"{cmd.verb}-"
     rows = []
     for p in expand(varied):
         try:
-            case = cmd.resolve(config=config, sets=[*(sets or []), *p.sets])
+            case = cmd.resolve(config=config, flags=flags, sets=[*(sets or []), *p.sets])
             inputs = {k: to_plain(case_value(case, k)) for k, _ in p.values}
-            rows.append({"point": p, "inputs": inputs, "case": case, "name": point_name(p, case), "error": None})
+            rows.append({"point": p, "inputs": inputs, "case": case, "name": point_name(p, case, options, prefix),
+                         "error": None})
         except InvalidParameter as err:
             rows.append({"point": p, "inputs": dict(p.values), "case": None, "name": None, "error": str(err)})
     return rows
@@ -203,7 +310,9 @@ def build_points(study, varied, *, config: str | None = None, sets: list[str] | 
 def dask_client(workers: int | None = None, scheduler: str | None = None):
     """A dask.distributed client: of the cluster at ``scheduler`` (``tcp://host:8786``), or
     of a new LocalCluster on this machine, ``workers`` processes (default: the cores) of
-    one thread each, numba on one thread in each (NUMBA_NUM_THREADS=1)."""
+    one thread each, numba on one thread in each (NUMBA_NUM_THREADS=1). The local
+    cluster starts with SIGINT held (``_sigint_held``): Ctrl-C reaches this process
+    only, which closes the cluster."""
     import logging
     from dask.distributed import Client, LocalCluster
     if scheduler:
@@ -211,14 +320,59 @@ def dask_client(workers: int | None = None, scheduler: str | None = None):
             yield client
         return
     n = workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=logging.ERROR, env={"NUMBA_NUM_THREADS": "1"}) as cluster, \
-            Client(cluster) as client:
-        yield client
+    with _sigint_held():
+        # ":0": the scheduler's HTTP server on a free port (None still tries 8787 and warns
+        # when another Dask cluster on the machine holds it)
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR, env={"NUMBA_NUM_THREADS": "1"})
+    with cluster, Client(cluster) as client:
+        try:
+            yield client
+        except KeyboardInterrupt:
+            _stop_workers(cluster)
+            raise
+
+
+def _stop_workers(cluster, timeout: float = 0.5) -> None:
+    """Close the local cluster's workers at once, a point still running or not (a
+    paper-scale point runs for an hour; Dask's own close waits 4 s per worker for it
+    first). Closing through the nannies keeps them from starting new workers."""
+    import asyncio
+    from distributed.utils import sync
+
+    async def close_all():
+        await asyncio.gather(*(n.close(timeout=timeout, reason="wallsim sweep interrupted")
+                               for n in list(cluster.workers.values())), return_exceptions=True)
+    sync(cluster.loop, close_all)
+
+
+@contextmanager
+def _sigint_held():
+    """SIGINT blocked in this thread while the block runs (the local cluster starts).
+    Threads started meanwhile (the cluster's event loop) and the worker processes they
+    spawn, now or on a restart, inherit the blocked signal, so a Ctrl-C at the terminal,
+    which signals the whole process group, reaches this process only: the workers do not
+    die each with a traceback; this process stops the sweep and closes the cluster. A
+    Ctrl-C while the block runs is delivered when it ends.
+
+    multiprocessing's resource tracker is started first: starting it unblocks SIGINT in
+    the thread that starts it, which would be the cluster's event loop."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    from multiprocessing import resource_tracker
+    resource_tracker.ensure_running()
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def submit_points(client, study: str, verb: str | None, built: list[dict], out: str, seed_at: int | None,
-                  retries: int = 2) -> dict:
+                  retries: int = 2, options: dict | None = None) -> dict:
     """One task per point to run (not finished before, case built), each after its leads
     (``lead_indices``) that run too. Returns {row index: future}."""
     leads = lead_indices([b["point"] for b in built], seed_at)
@@ -227,37 +381,57 @@ def submit_points(client, study: str, verb: str | None, built: list[dict], out: 
         if b["case"] is None or "status" in b:
             continue
         after = [futures[j] for j in leads[i] if j in futures]
-        futures[i] = client.submit(run_point, study, verb, b["case"], b["name"], str(out), *after,
+        futures[i] = client.submit(run_point, study, verb, b["case"], b["name"], str(out), options or {}, *after,
                                    key=f"point-{b['name']}", retries=retries, pure=False)
     return futures
 
 
 def run_sweep(study_name: str, varied, *, config: str | None = None, sets: list[str] | None = None,
               out: str | Path = "sweeps", workers: int | None = None, scheduler: str | None = None,
-              client=None, quiet: bool = True, verb: str | None = None, outputs: list[str] | None = None) -> dict:
+              client=None, quiet: bool = True, verb: str | None = None, outputs: list[str] | None = None,
+              flags: dict | None = None, options: dict | None = None, tables: str | Path | None = None) -> dict:
     """Run every point of ``varied`` (``parse_vary``) of the study's main command (or
     ``verb``) on dask; write ``sweep.json``, ``sweep.csv``, ``sweep_groups.csv`` and
-    ``sweep.png`` in ``out`` and return ``{"points": [...], "groups": [...]}`` (module
-    docstring). ``client``: an open dask client to use instead of making one."""
+    ``sweep.png`` in ``tables`` (default ``out``) and return ``{"points": [...],
+    "groups": [...]}`` (module docstring). ``flags``: case key -> value, as typed flags
+    set them; ``options``: the command's run options for every point (``POINT_FOLDER``
+    for the point's own folder). ``client``: an open dask client to use instead of
+    making one."""
     from . import get
     from .progress import progress
     study = get(study_name)
     seed_key = study.command(verb).seed_key
-    built = build_points(study, varied, config=config, sets=sets, verb=verb)
+    built = build_points(study, varied, config=config, sets=sets, verb=verb, flags=flags, options=options)
     for b in built:
-        done = finished_point(out, b["name"]) if b["case"] is not None else None
+        done = finished_point(out, b["name"], study_name, verb) if b["case"] is not None else None
         b.update(done or {})
     seed_at = next((k for k, (key, _) in enumerate(varied) if is_seed(key, seed_key)), None)
+    settings = {"sets": sets, "config": config} | ({"flags": flags} if flags else {}) \
+        | ({"verb": verb, "options": options} if options or not is_main(study, verb) else {})
     with (nullcontext(client) if client is not None else dask_client(workers, scheduler)) as c, \
             progress(quiet) as bar:
-        futures = submit_points(c, study_name, verb, built, str(Path(out).resolve()), seed_at)
+        futures = submit_points(c, study_name, verb, built, str(Path(out).resolve()), seed_at, options=options)
         task = bar.add_task(f"sweep {study_name}", total=len(built),
                             completed=len(built) - len(futures), status="")
+        where = tables if tables is not None else out
         try:
             _collect(futures, built, bar, task)
-        finally:       # Ctrl-C: the finished points are in their run folders and the table
-            table = write_tables(study_name, varied, built, out, seed_key, outputs, sets=sets, config=config)
+        except BaseException:     # Ctrl-C: the finished points are in their run folders; the
+            _finished_meanwhile(built, out, study_name, verb)      # table says which, at once
+            write_tables(study_name, varied, built, where, seed_key, outputs, figure=False, **settings)
+            raise                 # (the figure takes seconds)
+        table = write_tables(study_name, varied, built, where, seed_key, outputs, **settings)
     return table
+
+
+def _finished_meanwhile(built: list[dict], out, study: str, verb: str | None) -> None:
+    """Points marked interrupted whose run finished before this process heard of it:
+    done, as their folders say."""
+    for b in built:
+        if b.get("status") == "interrupted":
+            row = finished_point(out, b["name"], study, verb)
+            if row is not None:
+                b.update(row | {"status": "done"})
 
 
 def _collect(futures: dict, built: list[dict], bar, task) -> None:
@@ -276,8 +450,9 @@ def _collect(futures: dict, built: list[dict], bar, task) -> None:
             bar.advance(task)
             bar.update(task, status=f"{failed} failed" if failed else "")
     except BaseException:
-        for fut in futures.values():
+        for i, fut in futures.items():
             fut.cancel()
+            built[i].setdefault("status", "interrupted")    # running or queued when the sweep stopped
         raise
 
 
@@ -293,8 +468,8 @@ def stats(values: list[float]) -> dict:
 
 
 def point_rows(built: list[dict], outputs: list[str]) -> list[dict]:
-    """One row per point: its inputs, status (done, skipped, failed, not run), one-line
-    error, the chosen outputs, wall time [s] and run folder."""
+    """One row per point: its inputs, status (done, skipped, failed, interrupted: queued
+    or running when the sweep stopped), one-line error, the chosen outputs, wall time [s] and run folder."""
     rows = []
     for b in built:
         status = "failed" if b["case"] is None else b.get("status", "not run")
@@ -347,10 +522,10 @@ def figure_outputs(groups: list[dict], names: list[str], most: int = 6) -> list[
 
 
 def write_tables(study: str, varied, built: list[dict], out, seed_key: str | None,
-                 outputs: list[str] | None = None, **settings) -> dict:
+                 outputs: list[str] | None = None, figure: bool = True, **settings) -> dict:
     """sweep.json (the study, the varied values, the shared settings, points and groups),
-    sweep.csv (points), sweep_groups.csv (groups) and sweep.png in ``out``; returns
-    ``{"points", "groups"}`` as in sweep.json."""
+    sweep.csv (points), sweep_groups.csv (groups) and, with ``figure``, sweep.png in
+    ``out``; returns ``{"points", "groups"}`` as in sweep.json."""
     import json
     from .runfolder import to_plain
     from .store import atomic_write
@@ -365,7 +540,7 @@ def write_tables(study: str, varied, built: list[dict], out, seed_key: str | Non
     atomic_write(out / "sweep_groups.csv", _csv(groups))
     finished = [g for g in groups if g["finished"]]
     shown = list(outputs)[:6] if outputs else figure_outputs(finished, names)
-    if shown:
+    if shown and figure:
         from viz.figures import plot_sweep
         plot_sweep(finished, group_keys, shown, out / "sweep.png", title=f"{study} sweep")
     return {"points": to_plain(rows), "groups": to_plain(groups)}

@@ -75,6 +75,11 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, None]:
     return validate_khosravi(out_dir=opts.docs, root=opts.out, quiet=opts.quiet, case=case, rrd=opts.rrd), None
 
 
+def _validate_figures(report: dict) -> list[dict]:
+    from .report import figures
+    return figures(report)
+
+
 def _validate_text(report: dict) -> str:
     return f"wrote {report['paths']['json']} and {report['paths']['md']}"
 
@@ -101,7 +106,7 @@ VALIDATE = Command(
                 "read at 0.003; about 55 min on a 2-core machine (pluviation at 40 sweeps ~13-17 min, at rest "
                 "and translation to 0.01 at 80 sweeps ~38 min, a biaxial test for phi ~10 min when no card has "
                 "one; docs/validation/khosravi.md).",
-    default_case=_validation_case, run=_validate, text=_validate_text,
+    default_case=_validation_case, run=_validate, text=_validate_text, figures=_validate_figures,
     options=(Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs")),
              Option("--rrd", "also keep recording.rrd in the run folder", switch=True)))

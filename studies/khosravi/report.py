@@ -189,3 +189,38 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         lines.append(f"![{name}]({rel})")
     lines += ["", "What an impulse solver means for these numbers: see docs/dem2d.md.", ""]
     return "\n".join(lines)
+
+
+def figures(report: dict) -> list[dict]:
+    """The validation targets as figures, for ``validate --seeds`` (studies/seeds.py):
+    each the number ``assess`` judges, with the same window (reference.json "targets").
+    Yes/no targets are 1 or 0 (their mean is the share of seeds where they hold); the
+    steadiness is judged only when the run went to twice the target Dis/H, as in
+    ``assess``."""
+    from studies.seeds import figure
+    result = report["result"]
+    d, tg = result["dem"], json.loads(Path(__file__).with_name("reference.json").read_text())["targets"]
+    rel = tg["K_at_rest_upper_half_vs_jaky_rel_tol"]
+    end = result.get("wall_disp_over_H_end", result.get("wall_disp_over_H_active"))
+    steady = tg["wall_disp_over_H_steady_at_most"]
+    judged = end is not None and end >= 2 * steady
+    return [
+        figure("K_at_rest_upper_half_over_jaky", d["K_at_rest_upper_half_over_jaky"], reference=1.0,
+               reference_name="Jaky", lo=1 - rel, hi=1 + rel, target=f"Jaky 1 - sin(phi_biaxial) +- {rel:.0%}"),
+        figure("PS0_at_rest_over_lowest_reading", _ratio(d["PS0_at_rest_over_gammaH"],
+                                                         d["lowest_reading_at_rest_over_gammaH"]), hi=1.0, target="< 1: PS0 below the lowest 4-panel reading (corner reduction)"),
+        figure("active_below_at_rest_everywhere", float(bool(d["active_below_at_rest_everywhere"])), lo=1.0, hi=1.0,
+               target="1 (yes) at every reading point"),
+        figure("active_thrust_over_rankine", d["active_thrust_over_rankine"],
+               hi=tg["active_thrust_over_rankine_below"], target="< 1 (paper: every theory overestimates)"),
+        figure("wall_disp_over_H_steady", d["wall_disp_over_H_steady"], hi=steady if judged else None,
+               target=f"<= {steady:g}" if judged else "not judged: the run ends before twice the target Dis/H"),
+        figure("weight_balance", d["weight_balance"], reference=1.0, reference_name="weight",
+               lo=1 - tg["weight_balance_abs_tol"], hi=1 + tg["weight_balance_abs_tol"],
+               target=f"1 +- {tg['weight_balance_abs_tol']:g}"),
+    ]
+
+
+def _ratio(a: float | None, b: float | None) -> float | None:
+    """a / b, None when either is missing (NaN is stored as null)."""
+    return None if a is None or b is None else a / b

@@ -89,17 +89,20 @@ def _word_list(name: str, allowed: tuple[str, ...]):
 
 
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
-    import sys
-
-    from ..progress import progress
+    from ..progress import log_stream, progress
     from .validate import validate_nadukuru
 
     with progress(opts.quiet) as bar:
         rep = validate_nadukuru(case, out_dir=Path(opts.docs), root=Path(opts.out), walls=opts.walls,
                                 modes=opts.modes, triaxial=not opts.no_triaxial,
                                 rate_check=not opts.no_rate_check, progress=bar,
-                                log=lambda msg: print(msg, file=sys.stderr, flush=True))
+                                log=lambda msg: print(msg, file=log_stream(), flush=True))
     return rep, f"report: {Path(opts.docs) / 'nadukuru.md'}"
+
+
+def _validate_figures(report: dict) -> list[dict]:
+    from .validate import figures
+    return figures(report)
 
 
 _PARTICLES_HELP = "spheres incl. clump members (30000 = paper scale; fewer scale the grains up)"
@@ -126,7 +129,7 @@ VALIDATE = Command(
     verb="validate", help="all four modes, rough and smooth walls, at paper scale (hours)",
     description="Triaxial calibration, one settled specimen per wall, the four modes and a half-speed "
                 "translation; writes docs/validation/nadukuru.{md,json} and figures.",
-    default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True,
+    default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True, figures=_validate_figures,
     options=(
         Option("--particles", "spheres (30000)", key="specimen.particles", parse=count("particles")),
         Option("--walls", "comma list of rough, smooth (rough,smooth)", parse=_word_list("walls", ("rough", "smooth")),

@@ -296,3 +296,32 @@ def _mode_table_row(m: str, r: dict, git: str) -> str:
     return (f"| {m} | {r['K']:.3f} | {p['K']} | {r['resultant_height_over_H']:.3f} | "
             f"{p['resultant_height_over_H']} | {ok} | {r['wall_disp_over_H_steady']:.4f} | {r['wall_time_s'] / 60:.1f} min | "
             f"{r.get('git', git)} |")
+
+
+def figures(report: dict) -> list[dict]:
+    """The report's figures against the paper and the validation targets, for ``validate
+    --seeds`` (studies/seeds.py): the triaxial peak phi, and per wall the at-rest K, each
+    mode's K and resultant height (paper +- TOL_K, TOL_H; no window where the paper has
+    no value) and the half-speed change of K."""
+    from ..seeds import figure
+    spec = json.loads((Path(__file__).with_name("reference.json")).read_text())["specimen"]
+    out = []
+    if "triaxial" in report:
+        lo, hi = TARGETS["triaxial_phi_deg_window"]
+        out.append(figure("triaxial.phi_peak_deg", report["triaxial"]["phi_peak_deg"], reference=spec["triaxial_phi_deg"],
+                          lo=lo, hi=hi, target=f"{_window('triaxial_phi_deg_window')} deg"))
+    for wall, e in report["walls"].items():
+        lo, hi = TARGETS["K_at_rest_window"]
+        out.append(figure(f"{wall}.K_at_rest", e["specimen"]["K_at_rest"], reference=spec["at_rest_K"], lo=lo, hi=hi,
+                          target=_window("K_at_rest_window")))
+        for mode, row in e["modes"].items():
+            for key, tol in (("K", TOL_K), ("resultant_height_over_H", TOL_H)):
+                ref = row["paper"][key]
+                out.append(figure(f"{wall}.{mode}.{key}", row[key], reference=ref,
+                                  lo=None if ref is None else ref - tol, hi=None if ref is None else ref + tol,
+                                  target="no paper value" if ref is None else f"paper {ref} +- {tol}"))
+        if "rate_check" in e:
+            below = TARGETS["rate_check_dK_below"]
+            out.append(figure(f"{wall}.rate_check.dK", e["rate_check"]["dK"], reference=None, lo=-below, hi=below,
+                              target=f"abs(dK) < {below:g}"))
+    return out

@@ -103,22 +103,6 @@ def test_cli_refuses_bad_input_in_one_line(argv, capsys, tmp_path):
 
 
 # ----------------------------------------------------------------------------- on Dask
-@pytest.fixture(scope="module")
-def client():
-    """A 2-worker LocalCluster whose workers import this checkout (PYTHONPATH)."""
-    from studies.sweep import dask_client
-    old = os.environ.get("PYTHONPATH")
-    os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), old]))
-    try:
-        with dask_client(workers=2) as c:
-            yield c
-    finally:
-        if old is None:
-            os.environ.pop("PYTHONPATH")
-        else:
-            os.environ["PYTHONPATH"] = old
-
-
 def _same(a, b) -> bool:
     return a == b or (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b))
 
@@ -242,3 +226,109 @@ def test_killing_a_worker_mid_sweep_still_finishes_every_point(client, tmp_path)
     assert all(str(k).startswith("point-") for keys in killed.values() for k in keys)
     assert [p["status"] for p in table["points"]] == ["done"] * 4
     assert all((Path(p["run_folder"]) / "result.json").is_file() for p in table["points"])
+
+
+@pytest.mark.slow
+def test_each_point_logs_its_progress_and_keeps_its_run_options(swept):
+    out, table = swept
+    for p in (p for p in table["points"] if p["status"] == "done"):
+        folder = Path(p["run_folder"])
+        log = (folder / "run.log").read_text().splitlines()
+        assert f"point {p['point']}: khosravi compare, started on" in log[0] and "point finished in" in log[-1]
+        assert any("pluviation" in line or "translation" in line for line in log[1:-1])   # the run's own progress
+        assert json.loads((folder / "run_options.json").read_text()) == {"rrd": None, "no_cache": None,
+                                                                         "out": str(out.resolve()), "quiet": True}
+
+
+def test_run_options_for_every_point_are_parsed_as_their_flags():
+    from studies.sweep import parse_options
+    cmd = get("nadukuru").command()
+    assert parse_options(cmd, ["no-rrd", "every=10", "rrd=x.rrd"]) == {"no_rrd": True, "every": 10, "rrd": "x.rrd"}
+    assert parse_options(cmd, ["rrd"]) == {"rrd": True}           # --rrd alone: recording.rrd in the run folder
+    for bad, why in (["particles=3"], "not a run option"), (["resume=x"], "not a run option"), \
+            (["every=0"], ">= 1"), (["no-rrd=1"], "a switch"), (["every"], "every=VALUE"):
+        with pytest.raises(InvalidParameter, match=why):
+            parse_options(cmd, bad)
+
+
+def _interrupt_when_a_point_finishes(argv, out: Path, before: set) -> tuple[int, str, float, int]:
+    """Run ``wallsim sweep`` in its own session (as a terminal's foreground group), send
+    SIGINT to the whole group, as Ctrl-C at a terminal does, once a point has finished;
+    return (exit code, stderr, seconds from SIGINT to exit, process group)."""
+    import subprocess
+    import sys
+    proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), "sweep", "khosravi", *argv, "--out", str(out),
+                             "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True, env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    deadline = time.monotonic() + 120
+    while not set(out.glob("khosravi/*/result.json")) - before and time.monotonic() < deadline:
+        time.sleep(0.1)
+    t0 = time.monotonic()
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    return proc.returncode, err, time.monotonic() - t0, proc.pid
+
+
+def _group_is_gone(pgid: int, wait_s: float = 5.0) -> bool:
+    deadline = time.monotonic() + wait_s
+    while time.monotonic() < deadline:
+        try:
+            os.killpg(pgid, 0)
+        except ProcessLookupError:
+            return True
+        time.sleep(0.1)
+    return False
+
+
+def _speed_folders(out: Path, speeds: list[str]) -> list[Path]:
+    return [f for f in out.glob("khosravi/seed1_wall_speed*")
+            if f.name.split("-")[0].removeprefix("seed1_wall_speed") in speeds]
+
+
+def _check_interrupted(out: Path, code: int, err: str, speeds: list[str]) -> list[dict]:
+    """Exit 130, one line; sweep.json says which points finished (their folders hold a
+    result) and which were stopped."""
+    assert code == 130 and err.count("\n") == 1 and err.startswith("wallsim: interrupted"), err
+    points = [p for p in json.loads((out / "sweep.json").read_text())["points"]
+              if str(p["wall_speed"]) in speeds]
+    assert {p["status"] for p in points} <= {"done", "interrupted"} and "done" in {p["status"] for p in points}
+    for p in points:
+        if p["status"] == "done":
+            assert json.loads((Path(p["run_folder"]) / "result.json").read_text())["dem"]["K_active_total"] > 0
+    return points
+
+
+@pytest.mark.slow
+def test_ctrl_c_with_a_scheduler_keeps_the_finished_points(swept, client):
+    """A real Ctrl-C (SIGINT to the command's process group) during a sweep sent to an
+    existing cluster: exit 130, one line, the finished points intact. The points already
+    running finish on their workers (Dask cannot stop a running task): their folders
+    are whole too, so a rerun skips them."""
+    out, _ = swept                   # seed 1's specimen is stored there: each point takes ~1 s
+    speeds = ["0.005", "0.006", "0.007", "0.009"]
+    before = set(out.glob("khosravi/*/result.json"))
+    argv = ["--vary", "seed=1", "--vary", "wall_speed=" + ",".join(speeds), *sum((["--set", s] for s in TINY), []),
+            "--scheduler", client.scheduler.address]
+    _check_interrupted(out, *_interrupt_when_a_point_finishes(argv, out, before)[:2], speeds)
+    deadline = time.monotonic() + 60        # what was running finishes on the cluster, whole
+    while any(not (f / "result.json").is_file() for f in _speed_folders(out, speeds)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert all(json.loads((f / "result.json").read_text())["seed"] == 1 for f in _speed_folders(out, speeds))
+
+
+@pytest.mark.slow
+def test_ctrl_c_with_the_local_cluster_stops_its_workers_at_once(swept, tmp_path):
+    """Ctrl-C at the terminal reaches the command and its LocalCluster's worker
+    processes: the workers keep SIGINT blocked (no traceback from each), the command
+    closes them at once (a point still running is stopped, not waited for), exit 130
+    and one line; no process of the command is left."""
+    out, _ = swept
+    speeds = ["0.011", "0.012", "0.013", "0.014"]
+    before = set(out.glob("khosravi/*/result.json"))
+    argv = ["--vary", "seed=1", "--vary", "wall_speed=" + ",".join(speeds), *sum((["--set", s] for s in TINY), []),
+            "--workers", "2"]
+    code, err, stop_s, group = _interrupt_when_a_point_finishes(argv, out, before)
+    points = _check_interrupted(out, code, err, speeds)
+    assert "interrupted" in {p["status"] for p in points}
+    assert stop_s < 10                      # not the minutes a running point could take
+    assert _group_is_gone(group)            # the workers went with it
