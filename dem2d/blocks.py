@@ -54,6 +54,8 @@ class Masonry:
     block_height_m:     course height [m] (S-OET: 0.125)
     first_course_fixed: the first course is fixed (S-OET case A, "as on site"); False:
                         free on a fixed foundation (S-OET case B)
+    friction_handler:   set the pair friction on every contact in a collision handler even
+                        where shape values give it exactly (``pair_friction``)
     """
 
     unit_weight_kN_m3: float = 20.0
@@ -62,6 +64,7 @@ class Masonry:
     block_length_m: float = 0.30
     block_height_m: float = 0.125
     first_course_fixed: bool = True
+    friction_handler: bool = False
 
     def __post_init__(self):
         require_number("unit_weight", self.unit_weight_kN_m3, 0.0, 100.0, unit="kN/m^3")
@@ -239,14 +242,42 @@ def course_pieces(section, block_length: float = 0.30, block_height: float = 0.1
 
 
 # ---------------------------------------------------------------------------- the wall
-def _pair_friction(space: pymunk.Space, table: dict[tuple[int, int], float]) -> None:
-    """Friction per pair of materials: pymunk multiplies the shapes' frictions, so each
-    pair's coefficient is set on the arbiter before the solver runs (issue 23's probe:
-    25.01 deg for a 25 deg input, against 34.3 deg with the product rule)."""
+def pair_friction(space: pymunk.Space, table: dict[tuple[int, int], float], *,
+                  handler: bool = False) -> dict[int, float]:
+    """Friction per pair of materials (collision types). pymunk multiplies the two shapes'
+    frictions (issue 23's probe: 34.3 deg from the product rule where 25 deg was meant).
+
+    When the table is a product table (f_a f_b = mu_ab for every pair, as with one block
+    material on one foundation) the returned shape values give every pair exactly, and
+    no callback is needed; otherwise, or with ``handler=True``, a pre-solve collision
+    handler sets each arbiter's friction to its pair's value every step (exact in all
+    cases; it costs a Python call per contact per step, about a third of a wall's run).
+    Returns the friction to give each collision type's shapes."""
+    values = {} if handler else _product_split(table)
+    if values:
+        return values
     for (ta, tb), mu in table.items():
         def pre_solve(arbiter, space_, data, mu=mu):
             arbiter.friction = mu
         space.on_collision(ta, tb, pre_solve=pre_solve)
+    return {t: 1.0 for pair in table for t in pair}
+
+
+def _product_split(table: dict[tuple[int, int], float]) -> dict[int, float]:
+    """Shape values f with f_a f_b = mu_ab for every pair of ``table``, or {} if there are none."""
+    f: dict[int, float] = {}
+    for (a, b), mu in table.items():
+        if a == b and mu > 0:
+            f[a] = math.sqrt(mu)
+    for _ in range(len(table)):
+        for (a, b), mu in table.items():
+            if a in f and b not in f and f[a] > 0:
+                f[b] = mu / f[a]
+            elif b in f and a not in f and f[b] > 0:
+                f[a] = mu / f[b]
+    ok = all(a in f and b in f and math.isclose(f[a] * f[b], mu, rel_tol=1e-12, abs_tol=1e-15)
+             for (a, b), mu in table.items())
+    return f if ok else {}
 
 
 def _new_space(solver: BlockSolver) -> pymunk.Space:
@@ -297,6 +328,7 @@ class BlockWall:
     time: float = 0.0
     steps: int = 0
     _crest: np.ndarray = field(default=None, repr=False)
+    _wet_arrays: tuple | None = field(default=None, repr=False)
 
     @classmethod
     def build(cls, section, masonry: Masonry = Masonry(), solver: BlockSolver = BlockSolver()) -> "BlockWall":
@@ -304,8 +336,9 @@ class BlockWall:
         space = _new_space(solver)
         mu_bb = math.tan(math.radians(masonry.friction_deg))
         phi_f = masonry.friction_deg if masonry.foundation_friction_deg is None else masonry.foundation_friction_deg
-        _pair_friction(space, {(BLOCK_TYPE, BLOCK_TYPE): mu_bb,
-                               (BLOCK_TYPE, FOUNDATION_TYPE): math.tan(math.radians(phi_f))})
+        fr = pair_friction(space, {(BLOCK_TYPE, BLOCK_TYPE): mu_bb,
+                                   (BLOCK_TYPE, FOUNDATION_TYPE): math.tan(math.radians(phi_f))},
+                           handler=masonry.friction_handler)
         pieces = course_pieces(section, masonry.block_length_m, masonry.block_height_m)
         poly = section_polygon(section)
         t2 = math.tan(math.radians(section.batter_inner_deg))
@@ -322,7 +355,7 @@ class BlockWall:
             body.position = tuple(c)
             shape = pymunk.Poly(body, [tuple(p) for p in local])
             shape.collision_type = BLOCK_TYPE
-            shape.friction = mu_bb
+            shape.friction = fr[BLOCK_TYPE]
             shape.elasticity = 0.0
             space.add(body, shape)
             bodies.append(body)
@@ -333,7 +366,7 @@ class BlockWall:
             inertia.append(body.moment if not fixed else 0.0)
             if not fixed:
                 wet += _wet_faces(i, piece, c, section.base_width_m, t2)
-        _add_foundation(space, poly, section, phi_f)
+        _add_foundation(space, poly, section, fr[FOUNDATION_TYPE])
         wall = cls(section, masonry, solver, space, bodies, np.array(courses), np.array(dyn), outlines, wet,
                    np.array(mass), np.array(inertia))
         top = wall.course[wall.dynamic].max() if wall.dynamic.any() else 0
@@ -370,42 +403,50 @@ class BlockWall:
     # -------------------------------------------------------------- water and stepping
     def water_force(self) -> tuple[float, float]:
         """Total water force on the wall now (x, y) [N/m] (what ``advance`` applies)."""
-        return tuple(np.sum([f for _, f, _ in self._water_loads()], axis=0)) if self.wet else (0.0, 0.0)
+        loads = self.water_loads()
+        return (float(loads[1][:, 0].sum()), float(loads[1][:, 1].sum())) if loads is not None else (0.0, 0.0)
 
-    def _water_loads(self):
-        """(body, force, world point) of every wetted face: the hydrostatic pressure
-        gamma_w (h_w - y) integrated along the face, applied at its centre of pressure."""
+    def water_loads(self):
+        """The hydrostatic pressure gamma_w (h_w - y) on every wetted face, integrated along
+        the face and put at its centre of pressure, summed per block: (block indices (q,),
+        forces (q,2) [N/m], torques about the block centroids (q,) [N m/m]); None when dry.
+        Direction: into the block, normal to the face as it is now ("normal") or as it
+        was built ("fixed")."""
         hw = self.water_height
-        loads = []
-        if hw <= 0:
-            return loads
-        for f in self.wet:
-            body = self.bodies[f.body]
-            A, B = body.local_to_world(f.a), body.local_to_world(f.b)
-            A, B = np.array(tuple(A)), np.array(tuple(B))
-            pa, pb = GAMMA_WATER * (hw - A[1]), GAMMA_WATER * (hw - B[1])
-            if pa <= 0 and pb <= 0:
-                continue
-            d = B - A
-            length = math.hypot(*d)
-            if self.direction == "normal":
-                n = np.array([-d[1], d[0]]) / length      # into the block (ccw polygon, inward normal)
-            else:
-                n = np.array(f.n0)
-            if pa < 0 or pb < 0:                           # clip the face at the water line
-                s = pa / (pa - pb)
-                if pa < 0:
-                    A, pa = A + s * d, 0.0
-                else:
-                    B, pb = A + s * d, 0.0
-                d = B - A
-                length = math.hypot(*d)
-            force = length * (pa + pb) / 2
-            if force <= 0:
-                continue
-            s_cp = (pa + 2 * pb) / (3 * (pa + pb))         # centre of a trapezoidal load, from A
-            loads.append((body, force * n, A + s_cp * d))
-        return loads
+        if hw <= 0 or not self.wet:
+            return None
+        if self._wet_arrays is None:
+            self._wet_arrays = _wet_arrays(self.wet)
+        body, a, b, n0, blocks, slot = self._wet_arrays
+        bods = [self.bodies[i] for i in blocks]
+        pos = np.array([tuple(bd.position) for bd in bods])
+        ang = np.array([bd.angle for bd in bods])
+        c, s = np.cos(ang)[slot], np.sin(ang)[slot]
+        rot = lambda v: np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]])  # noqa: E731
+        A, B = pos[slot] + rot(a), pos[slot] + rot(b)
+        d = B - A
+        n = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None] if self.direction == "normal" \
+            else rot(n0) * 0 + n0
+        pa, pb = GAMMA_WATER * (hw - A[:, 1]), GAMMA_WATER * (hw - B[:, 1])
+        # clip each face at the water line (pressure linear along it, zero at the surface)
+        t = np.where((pa < 0) != (pb < 0), pa / np.where(pa != pb, pa - pb, 1.0), 0.0)
+        A = np.where(((pa < 0) & (pb > 0))[:, None], A + t[:, None] * d, A)
+        B = np.where(((pb < 0) & (pa > 0))[:, None], A + t[:, None] * d, B)
+        pa, pb = np.maximum(pa, 0.0), np.maximum(pb, 0.0)
+        d = B - A
+        length = np.hypot(d[:, 0], d[:, 1])
+        force = length * (pa + pb) / 2
+        wet = force > 0
+        s_cp = np.where(wet, (pa + 2 * pb) / (3 * np.where(wet, pa + pb, 1.0)), 0.0)  # trapezoid centre from A
+        F = force[:, None] * n
+        P = A + s_cp[:, None] * d
+        r = P - pos[slot]
+        torque = r[:, 0] * F[:, 1] - r[:, 1] * F[:, 0]
+        Fb = np.zeros((len(blocks), 2))
+        Tb = np.zeros(len(blocks))
+        np.add.at(Fb, slot, F)
+        np.add.at(Tb, slot, torque)
+        return blocks, Fb, Tb
 
     def advance(self, seconds: float) -> None:
         """Step for ``seconds``, re-applying the water load every step (pymunk clears
@@ -414,8 +455,12 @@ class BlockWall:
         dt = self.solver.dt
         with _sigint_between_steps() as marks:
             for _ in range(n):
-                for body, F, P in self._water_loads():
-                    body.apply_force_at_world_point(tuple(F), tuple(P))
+                loads = self.water_loads()
+                if loads is not None:
+                    for i, F, T in zip(loads[0].tolist(), loads[1].tolist(), loads[2].tolist()):
+                        body = self.bodies[i]
+                        body.force = F
+                        body.torque = T
                 self.space.step(dt)
                 if marks:
                     raise KeyboardInterrupt
@@ -457,14 +502,23 @@ def _wet_faces(i: int, piece: np.ndarray, c: np.ndarray, b: float, t2: float) ->
     return out
 
 
-def _add_foundation(space: pymunk.Space, poly: np.ndarray, section, phi_f: float) -> None:
+def _wet_arrays(wet: list[WetFace]):
+    """The wetted faces as arrays: body index, end points a, b (body frame), initial
+    normal, the distinct blocks, and each face's slot among them."""
+    body = np.array([f.body for f in wet])
+    blocks, slot = np.unique(body, return_inverse=True)
+    return (body, np.array([f.a for f in wet]), np.array([f.b for f in wet]), np.array([f.n0 for f in wet]),
+            blocks, slot)
+
+
+def _add_foundation(space: pymunk.Space, poly: np.ndarray, section, friction: float) -> None:
     """A fixed slab under the base plane, wider than the wall on both sides."""
     e_u, e_v = _bed_axes(section.joint_slope_deg)
     u_hi = float(poly[1] @ e_u)
     pts = [(-1.0) * e_u, (u_hi + 1.0) * e_u, (u_hi + 1.0) * e_u - 0.5 * e_v, (-1.0) * e_u - 0.5 * e_v]
     shape = pymunk.Poly(space.static_body, [tuple(p) for p in pts])
     shape.collision_type = FOUNDATION_TYPE
-    shape.friction = math.tan(math.radians(phi_f))
+    shape.friction = friction
     space.add(shape)
 
 
@@ -652,27 +706,29 @@ def load_to_failure(wall: BlockWall, plan: LoadingPlan = LoadingPlan(), *, progr
 
 # ---------------------------------------------------------------------------- tilt tests
 def _tilt_pair(lower: tuple[float, float], upper: tuple[float, float], friction_deg: float,
-               solver: BlockSolver, density: float = 2000.0):
+               solver: BlockSolver, handler: bool, density: float = 2000.0):
     """A fixed block ``lower`` (length, height) and a free block ``upper`` on it, centred."""
     space = _new_space(solver)
     mu = math.tan(math.radians(friction_deg))
-    _pair_friction(space, {(BLOCK_TYPE, BLOCK_TYPE): mu})
+    fr = pair_friction(space, {(BLOCK_TYPE, BLOCK_TYPE): mu}, handler=handler)
     L0, H0 = lower
     base = pymunk.Poly(space.static_body, [(-L0 / 2, -H0), (L0 / 2, -H0), (L0 / 2, 0), (-L0 / 2, 0)])
     base.collision_type = BLOCK_TYPE
+    base.friction = fr[BLOCK_TYPE]
     L1, H1 = upper
     m = density * L1 * H1
     body = pymunk.Body(m, pymunk.moment_for_box(m, (L1, H1)))
     body.position = (0.0, H1 / 2)
     top = pymunk.Poly.create_box(body, (L1, H1))
     top.collision_type = BLOCK_TYPE
+    top.friction = fr[BLOCK_TYPE]
     space.add(base, body, top)
     return space, body
 
 
-def _tilt_until(friction_deg, lower, upper, solver, moved, start_deg, step_deg, hold_s, stop_deg):
+def _tilt_until(friction_deg, lower, upper, solver, moved, start_deg, step_deg, hold_s, stop_deg, handler):
     """Tilt (by turning gravity) in steps until ``moved(body, x0)``; the angle [deg] or NaN."""
-    space, body = _tilt_pair(lower, upper, friction_deg, solver)
+    space, body = _tilt_pair(lower, upper, friction_deg, solver, handler)
     n = max(int(round(hold_s / solver.dt)), 1)
     beta = start_deg
     space.gravity = (G * math.sin(math.radians(beta)), -G * math.cos(math.radians(beta)))
@@ -693,7 +749,7 @@ def _tilt_until(friction_deg, lower, upper, solver, moved, start_deg, step_deg, 
 
 
 def tilt_slide_angle(friction_deg: float, *, block=(0.30, 0.125), solver: BlockSolver = BlockSolver(),
-                     resolution_deg: float = 0.05) -> float:
+                     resolution_deg: float = 0.05, handler: bool = False) -> float:
     """Tilt angle [deg] at which a block on an identical fixed block starts to slide
     (tilt test; rigid Coulomb contact: tan(angle) = mu, so angle = ``friction_deg``).
     Gravity is turned in steps of 1 deg, then of ``resolution_deg`` from 1 deg below the
@@ -702,15 +758,15 @@ def tilt_slide_angle(friction_deg: float, *, block=(0.30, 0.125), solver: BlockS
     g (sin - mu cos) is so small that a mm threshold would lag by about a degree)."""
     def slid(body, x0):
         return body.position.x - x0[0] > 1e-5
-    coarse = _tilt_until(friction_deg, block, block, solver, slid, 0.0, 1.0, 0.05, 89.0)
+    coarse = _tilt_until(friction_deg, block, block, solver, slid, 0.0, 1.0, 0.05, 89.0, handler)
     if math.isnan(coarse):
         return coarse
     return _tilt_until(friction_deg, block, block, solver, slid, max(coarse - 1.0, 0.0), resolution_deg, 0.05,
-                       coarse + 1.0)
+                       coarse + 1.0, handler)
 
 
 def topple_angle(width: float, height: float, *, friction_deg: float = 60.0,
-                 solver: BlockSolver = BlockSolver(), resolution_deg: float = 0.05) -> float:
+                 solver: BlockSolver = BlockSolver(), resolution_deg: float = 0.05, handler: bool = False) -> float:
     """Tilt angle [deg] at which a slender block (``width`` x ``height``) on a wide fixed
     block tips over (its weight passes the downhill corner: atan(width / height), when
     the friction holds it from sliding: friction_deg > that). Tipped = rotated 0.01 deg
@@ -718,8 +774,8 @@ def topple_angle(width: float, height: float, *, friction_deg: float = 60.0,
     def tipped(body, x0):
         return abs(body.angle) > math.radians(0.01)
     lower = (4 * max(width, height), 0.125)
-    coarse = _tilt_until(friction_deg, lower, (width, height), solver, tipped, 0.0, 1.0, 0.1, 89.0)
+    coarse = _tilt_until(friction_deg, lower, (width, height), solver, tipped, 0.0, 1.0, 0.1, 89.0, handler)
     if math.isnan(coarse):
         return coarse
     return _tilt_until(friction_deg, lower, (width, height), solver, tipped, max(coarse - 1.0, 0.0),
-                       resolution_deg, 0.1, coarse + 1.0)
+                       resolution_deg, 0.1, coarse + 1.0, handler)
