@@ -63,8 +63,9 @@ def band_table(walls: dict) -> list[str]:
     for w, e in walls.items():
         for c in e["band"]["corners"]:
             dem = (f"{_f(c['dem_height_m'])} {c['dem_mode'] or ''}" if "dem_height_m" in c else "")
+            le = _f(c["limit_equilibrium_height_m"]) + (" (stands)" if c["limit_equilibrium_stands_to_crest"] else "")
             rows.append(f"| {w} | {c['geometry']} | {c['unit_weight_kN_m3']:g} | {c['joint_slope_deg']:.2f} | "
-                        f"{_f(c['limit_equilibrium_height_m'])} | {dem} |")
+                        f"{le} | {dem} |")
     return rows
 
 
@@ -104,8 +105,8 @@ def write_report(rep: dict, out_dir: Path) -> Path:
              "`studies/drystone/reference.json` from ../shared/reference/drystone-walls.md.", "",
              f"Engine `dem2d.blocks` (pymunk {rep['versions'].get('pymunk', '?')}): courses of "
              f"{s['block_m'][0]:g} x {s['block_m'][1]:g} m rigid blocks with staggered joints, first course fixed, "
-             f"dt {s['dt_s']:g} s, {s['iterations']} sweeps, collision slop {s['collision_slop_m']:g} m, pair "
-             f"friction phi_b set per contact, water raised by {100 * s['increment_fraction']:g} % of h per "
+             f"dt {s['dt_s']:g} s, {s['iterations']} sweeps, collision slop {s['collision_slop_m']:g} m, friction "
+             f"tan(phi_b) on every joint (pair value; pymunk's product rule accounted for), water raised by {100 * s['increment_fraction']:g} % of h per "
              f"increment, pressure normal to the current face ({s['water_direction']}). **{rep['note']}.**", "",
              "## Geometry: what is assumed", "", DEFAULT_GEOMETRY_WHY, "",
              "Assumed or derived in every wall (each output repeats its own list): base and crest widths, "
@@ -120,8 +121,10 @@ def write_report(rep: dict, out_dir: Path) -> Path:
              "## Band over the missing data", "",
              "Limit equilibrium (yield design) at every corner of the box: both geometries x gamma_m 18 and 22 "
              "kN/m3 x alpha 0 and 8.5 deg (limestone walls; V5S's alpha is found). The DEM ran at the corners "
-             "where the limit equilibrium is lowest and highest; the band in the results table is that DEM pair "
-             "(\"> h (stands)\": the wall stood with water at its crest).", "", *band_table(walls), "",
+             "where the limit equilibrium is lowest, highest, and highest with the back-fit geometry; the band in the results table is that DEM pair "
+             "(\"> h (stands)\": the wall stood with water at its crest; a limit-equilibrium height above h is the "
+             "balance extended past the crest, marked \"stands\"). Band source: "
+             f"{next(iter(walls.values()))['band']['source']}.", "", *band_table(walls), "",
              "## Time", "",
              f"Five walls plus their convergence runs: {t['walls_and_convergence_wall_s']:.0f} s wall, "
              f"{t['walls_and_convergence_cpu_s']:.0f} s CPU. Band runs: {t['band_wall_s']:.0f} s wall, "

@@ -32,26 +32,31 @@ def band_corners(case: DrystoneCase) -> list[DrystoneCase]:
             for g, gm, a in itertools.product(GEOMETRIES, (g_lo, g_hi), alphas)]
 
 
-def _le_height(case: DrystoneCase) -> float:
-    """Yield-design critical height; a wall standing with water at its crest counts as h
-    for ordering the corners."""
+def _le_height(case: DrystoneCase) -> tuple[float, bool]:
+    """Yield-design critical height [m] (above the crest: the balance extended past it, the
+    wall stands with water at its crest) and whether it stands."""
     le = limit_equilibrium(case)["yield-design"]
-    return min(le["critical_height_m"], case.section().height_m) if le["critical_height_m"] else math.inf
+    return le["critical_height_m"], bool(le["stands_to_crest"])
 
 
 def band(case: DrystoneCase, dem: bool, log=None) -> dict:
     """Critical heights over the band corners: the limit equilibrium at every corner, and
-    (``dem``) the DEM at the corners where the limit equilibrium is lowest and highest."""
+    (``dem``) the DEM at the corners where it is lowest, highest, and highest with the
+    default (back-fit) geometry."""
     corners = band_corners(case)
-    les = [_le_height(c) for c in corners]
+    found = [_le_height(c) for c in corners]
+    les = [h for h, _ in found]
     rows = [{"geometry": c.geometry, "unit_weight_kN_m3": c.unit_weight_kN_m3,
-             "joint_slope_deg": c.section().joint_slope_deg, "limit_equilibrium_height_m": le}
-            for c, le in zip(corners, les)]
-    out = {"corners": rows, "limit_equilibrium_band_m": [min(les), max(les)], "source": "limit equilibrium"}
+             "joint_slope_deg": c.section().joint_slope_deg, "limit_equilibrium_height_m": h,
+             "limit_equilibrium_stands_to_crest": st} for c, (h, st) in zip(corners, found)]
+    h_wall = case.section().height_m
+    out = {"corners": rows, "limit_equilibrium_band_m": [min(les), None if max(les) >= h_wall else max(les)],
+           "source": "limit equilibrium (None: stands with water at the crest)"}
     if not dem:
         out["band_m"] = out["limit_equilibrium_band_m"]
         return out
-    picks = sorted({les.index(min(les)), les.index(max(les))})
+    back = [i for i, c in enumerate(corners) if c.geometry == "back-fit"]
+    picks = sorted({les.index(min(les)), max(back, key=lambda i: les[i]), les.index(max(les))})
     for i in picks:
         _, res, seconds, cpu = run_dem(corners[i])
         rows[i] |= {"dem_height_m": res.critical_height_m if res.failed else None,
@@ -63,7 +68,7 @@ def band(case: DrystoneCase, dem: bool, log=None) -> dict:
     dem_vals = [rows[i]["dem_height_m"] for i in picks]
     lo = min(v for v in dem_vals if v is not None) if any(v is not None for v in dem_vals) else None
     hi = None if any(v is None for v in dem_vals) else max(dem_vals)
-    out |= {"band_m": [lo, hi], "source": "DEM at the lowest and highest limit-equilibrium corners",
+    out |= {"band_m": [lo, hi], "source": "DEM at the corners of lowest, highest and highest back-fit limit equilibrium",
             "hi_stands_to_crest": hi is None}
     return out
 
@@ -124,6 +129,12 @@ def entry(r: dict) -> dict:
             "limit_equilibrium_bed_joints": r["limit_equilibrium"]["bed-joints"], "section": r["section"],
             "geometry": r["geometry"], "assumptions": r["assumptions"], "blocks": d["blocks"], "steps": d["steps"],
             "convergence": conv, "band": r["band"]}
+
+
+def rewrite_report(out_dir: Path) -> Path:
+    """drystone.md again from drystone.json (after editing drystone_discussion.md)."""
+    from .report import write_report
+    return write_report(json.loads((out_dir / "drystone.json").read_text()), out_dir)
 
 
 def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], band: str = "dem",
