@@ -16,19 +16,37 @@ RIGID_NOTE = ("rigid-block kinematics: contacts have no stiffness, so displaceme
               "numerical, not physical; do not set them against the site sensors")
 
 
+def section_above_fixed_course(section, course_height: float):
+    """The part of ``section`` above the bed joint on top of the first course, as a wall
+    of its own (its toe where that joint meets the outer face), and that toe's height
+    [m]. The DEM fixes the first course (S-OET 5.1), so its mechanisms start there."""
+    from analytic.drystone import WallSection
+    a = math.radians(section.joint_slope_deg)
+    t1, t2 = math.tan(math.radians(section.batter_outer_deg)), math.tan(math.radians(section.batter_inner_deg))
+    y = course_height / (t1 * math.sin(a) + math.cos(a))
+    return WallSection(section.height_m - y, section.base_width_m - y * (t1 + t2), section.batter_outer_deg,
+                       section.batter_inner_deg, section.joint_slope_deg), y
+
+
+def _le_record(le, shift: float = 0.0) -> dict:
+    return {"critical_height_m": le.critical_height_m + shift, "mode": le.mode,
+            "mechanism_level_m": le.mechanism_level_m + shift, "sliding_height_m": le.sliding_height_m + shift,
+            "toppling_height_m": le.toppling_height_m + shift, "theta_deg": le.theta_deg,
+            "stands_to_crest": le.stands_to_crest}
+
+
 def limit_equilibrium(case: DrystoneCase) -> dict:
-    """Both variants of ``analytic.drystone.water_limit_equilibrium`` for the case's wall."""
+    """``analytic.drystone.water_limit_equilibrium`` for the case's wall: the yield-design
+    reconstruction (reference 5, mechanisms from the base), the bed-joint variant, and the
+    yield design of the part above the fixed first course (the DEM's own boundary
+    condition; heights shifted back to the toe level)."""
     from analytic.drystone import water_limit_equilibrium
-    out = {}
-    for method in ("yield-design", "bed-joints"):
-        le = water_limit_equilibrium(case.section(), case.phi_b_deg, case.unit_weight_kN_m3,
-                                     staircase_m=staircase_m(case), method=method,
-                                     **({"course_height_m": case.block_height_m} if method == "bed-joints" else {}))
-        out[method] = {"critical_height_m": le.critical_height_m, "mode": le.mode,
-                       "mechanism_level_m": le.mechanism_level_m, "sliding_height_m": le.sliding_height_m,
-                       "toppling_height_m": le.toppling_height_m, "theta_deg": le.theta_deg,
-                       "stands_to_crest": le.stands_to_crest}
-    return out
+    sec, phi, g, m = case.section(), case.phi_b_deg, case.unit_weight_kN_m3, staircase_m(case)
+    upper, y = section_above_fixed_course(sec, case.block_height_m)
+    return {"yield-design": _le_record(water_limit_equilibrium(sec, phi, g, staircase_m=m)),
+            "bed-joints": _le_record(water_limit_equilibrium(sec, phi, g, method="bed-joints",
+                                                             course_height_m=case.block_height_m)),
+            "above-fixed-course": _le_record(water_limit_equilibrium(upper, phi, g, staircase_m=m), y)}
 
 
 def run_dem(case: DrystoneCase, *, on_increment=None):
@@ -75,6 +93,7 @@ def wall_result(case: DrystoneCase, wall, res, seconds: float, cpu: float) -> di
                         "collision_slop_m": wall.solver.collision_slop, "overlap_time_s": wall.solver.overlap_time,
                         "elasticity": 0.0, "pair_friction": "arbiter override (collision handler)"},
             "dt_s": case.dt, "iterations": case.iterations, "water_direction": case.water_direction,
+            "increment_fraction": case.increment_fraction,
             "unit_weight_kN_m3": case.unit_weight_kN_m3, "particles": wall.block_count,
             "wall_time_s": seconds, "cpu_time_s": cpu, "note": RIGID_NOTE}
 
@@ -87,6 +106,9 @@ def comparison_rows(result: dict) -> list[list]:
              le["yield-design"]["mode"], le["yield-design"]["mechanism_level_m"]],
             ["limit equilibrium (bed joints)", le["bed-joints"]["critical_height_m"], le["bed-joints"]["mode"],
              le["bed-joints"]["mechanism_level_m"]],
+            ["limit equilibrium above the fixed first course (yield design)",
+             le["above-fixed-course"]["critical_height_m"], le["above-fixed-course"]["mode"],
+             le["above-fixed-course"]["mechanism_level_m"]],
             ["paper's DEM (S-OET Table 3)", result["paper_dem"]["height_m"], result["paper_dem"]["mode"], None],
             ["measured (Villemus, S-OET Table 3)", result["measured"]["height_m"], result["measured"]["mode"], None]]
 

@@ -126,7 +126,11 @@ def entry(r: dict) -> dict:
             "within_10_percent": bool(abs(r["error_percent"]) <= ACCURACY_LIMIT_PERCENT)
             if math.isfinite(r["error_percent"]) else False,
             "mode_matches": r["mode_matches"], "paper_dem": r["paper_dem"],
-            "limit_equilibrium_bed_joints": r["limit_equilibrium"]["bed-joints"], "section": r["section"],
+            "limit_equilibrium_bed_joints": r["limit_equilibrium"]["bed-joints"],
+            "limit_equilibrium_above_fixed_course": r["limit_equilibrium"]["above-fixed-course"],
+            "dem_minus_fixed_course_le_m": (d["critical_height_m"] - r["limit_equilibrium"]["above-fixed-course"]
+                                            ["critical_height_m"]) if d["critical_height_m"] is not None else None,
+            "increment_m": r["section"]["height_m"] * r["increment_fraction"], "section": r["section"],
             "geometry": r["geometry"], "assumptions": r["assumptions"], "blocks": d["blocks"], "steps": d["steps"],
             "convergence": conv, "band": r["band"]}
 
