@@ -551,7 +551,8 @@ def classify_mechanism(section, block_height: float, course: np.ndarray, dynamic
     """Sliding or toppling, from block kinematics between states 0 and 1.
 
     The top two courses are fitted with one rigid motion (mean translation T of their
-    centroid c, mean rotation w). Its instantaneous centre is c + (-T_y, T_x) / w. The
+    centroid c, mean rotation w); its centre (pivot) is the point that motion leaves in
+    place. The
     wall topples when that centre lies near the outer face within the wall's height and
     the rotation accounts for at least half the crest movement (w x lever >= |T| / 2);
     the pivot's bed joint is the level. Otherwise it slides, on the lowest bed joint
@@ -570,7 +571,9 @@ def classify_mechanism(section, block_height: float, course: np.ndarray, dynamic
     t1 = math.tan(math.radians(section.batter_outer_deg))
     pivot = None
     if abs(w) > 1e-12:
-        pivot = c + np.array([-T[1], T[0]]) / w
+        # the fixed point of the finite rigid motion x -> c + T + R(w) (x - c)
+        R = np.array([[math.cos(w), -math.sin(w)], [math.sin(w), math.cos(w)]])
+        pivot = np.linalg.solve(np.eye(2) - R, c + T - R @ c)
         lever = float(np.hypot(*(c - pivot)))
         x_face = pivot[1] * t1
         near_face = abs(pivot[0] - x_face) < 0.35 * section.base_width_m
