@@ -33,8 +33,9 @@ def _band(b):
 def main_table(walls: dict) -> list[str]:
     rows = ["| wall | measured h_w (m), mode | DEM h_w (m), mode, level (m) | error | limit equilibrium "
             "(yield design, from the base) | limit equilibrium (bed joints) | limit equilibrium above the fixed "
-            "first course | DEM minus that (increment) | paper's DEM | band (m) |",
-            "|---|---|---|---|---|---|---|---|---|---|"]
+            "first course | DEM minus that (increment) | paper's DEM | band (m), both geometries | band (m), "
+            "back-fit only |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for w, e in walls.items():
         bj, fx = e["limit_equilibrium_bed_joints"], e["limit_equilibrium_above_fixed_course"]
         rows.append(f"| {w} | {e['measured_height_m']:.2f} {e['measured_mode']} | {_f(e['critical_height_m'])} "
@@ -42,7 +43,8 @@ def main_table(walls: dict) -> list[str]:
                     f"{e['limit_equilibrium_height_m']:.3f} {e['limit_equilibrium_mode']} | "
                     f"{bj['critical_height_m']:.3f} {bj['mode']} | {fx['critical_height_m']:.3f} {fx['mode']} | "
                     f"{_f(e['dem_minus_fixed_course_le_m'], '+.3f')} ({e['increment_m']:.4f}) | "
-                    f"{e['paper_dem']['height_m']:.2f} {e['paper_dem']['mode']} | {_band(e['band_m'])} |")
+                    f"{e['paper_dem']['height_m']:.2f} {e['paper_dem']['mode']} | {_band(e['band_m'])} | "
+                    f"{_band(back_fit_band(e)) if e['band'].get('hi_stands_to_crest') is not None else 'n/a'} |")
     return rows
 
 
@@ -57,6 +59,16 @@ def convergence_table(walls: dict) -> list[str]:
                     f"{_f(c['change_percent'], '.2f')} % | {'yes' if c['mode_same'] else '**no**'} | "
                     f"{'yes' if c['holds'] else '**no**'} |")
     return rows
+
+
+def back_fit_band(e: dict) -> list:
+    """The DEM band over gamma_m and alpha with the default (back-fit) geometry only."""
+    vals = [c for c in e["band"]["corners"] if c["geometry"] == "back-fit" and "dem_height_m" in c]
+    if not vals:
+        return [None, None]
+    hs = [c["dem_height_m"] for c in vals]
+    return [min(h for h in hs if h is not None) if any(h is not None for h in hs) else None,
+            None if any(h is None for h in hs) else max(hs)]
 
 
 def band_table(walls: dict) -> list[str]:

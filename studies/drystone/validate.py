@@ -136,9 +136,15 @@ def entry(r: dict) -> dict:
 
 
 def rewrite_report(out_dir: Path) -> Path:
-    """drystone.md again from drystone.json (after editing drystone_discussion.md)."""
-    from .report import write_report
-    return write_report(json.loads((out_dir / "drystone.json").read_text()), out_dir)
+    """drystone.md (and the derived fields of drystone.json: the back-fit band, the
+    timing) again from drystone.json, after editing drystone_discussion.md."""
+    from .report import back_fit_band, write_report
+    rep = json.loads((out_dir / "drystone.json").read_text())
+    for e in rep["walls"].values():
+        e["band_back_fit_m"] = back_fit_band(e)
+    path = write_report(rep, out_dir)
+    atomic_write(out_dir / "drystone.json", (json.dumps(to_plain(rep), indent=2) + "\n").encode())
+    return path
 
 
 def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], band: str = "dem",
@@ -161,6 +167,9 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
            "note": RIGID_NOTE, "git": git_revision(), "versions": package_versions(),
            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
            "wall_time_s": time.perf_counter() - t0, "cpu_time_s": time.process_time() - c0}
+    from .report import back_fit_band
+    for e in rep["walls"].values():
+        e["band_back_fit_m"] = back_fit_band(e)
     write_report(rep, out_dir)          # adds rep["timing"]
     atomic_write(out_dir / "drystone.json", (json.dumps(to_plain(rep), indent=2) + "\n").encode())
     return rep
