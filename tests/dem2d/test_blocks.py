@@ -139,3 +139,17 @@ def test_small_walls_fail_at_their_limit_equilibrium(section, phi):
     res = load_to_failure(w, LoadingPlan(increment_fraction=0.02))
     assert res.failed and res.mechanism.mode == le.mode
     assert le.critical_height_m + y - 1e-3 <= res.critical_height_m <= le.critical_height_m + y + 0.02 + 1e-3
+
+
+def test_free_first_course_slides_on_the_foundation_at_its_limit_equilibrium():
+    """First course free on a fixed foundation (S-OET case B's boundary condition): the
+    mechanism may start at the base, so the DEM fails within one increment (2 % of h)
+    above the yield-design limit equilibrium from the base (reference 5.4), on the base joint."""
+    from dem2d.blocks import load_to_failure
+
+    section, phi = WallSection(1.0, 0.60, 0.0), 12.0
+    le = water_limit_equilibrium(section, phi, 20.0)
+    w = BlockWall.build(section, Masonry(friction_deg=phi, first_course_fixed=False))
+    res = load_to_failure(w, LoadingPlan(increment_fraction=0.02))
+    assert (res.mechanism.mode, res.mechanism.course) == (le.mode, 0) == ("sliding", 0)
+    assert le.critical_height_m - 1e-3 <= res.critical_height_m <= le.critical_height_m + 0.02 + 1e-3
