@@ -146,8 +146,9 @@ def write_outputs(folder, case: DrystoneCase, result: dict, res) -> None:
     plot_drystone_mechanism(res.reference_outlines, res.outlines, res.velocities, folder.file("mechanism.png"),
                             water_height=res.water_height_m[-1], title=mtitle, level_m=m.level_m if m else None,
                             pivot=m.pivot if m and m.mode == "toppling" else None, notes=notes)
+    # the assumptions ride along as rows of their own, so the table never travels without them
     folder.write_csv("comparison.csv", ["source", "critical_height_m", "mode", "mechanism_level_m"],
-                     comparison_rows(result))
+                     comparison_rows(result) + [[f"assumption: {a}", "", "", ""] for a in notes])
 
 
 def compare_wall(case: DrystoneCase, *, root: Path, rrd: str | None = None, record: bool = True,
