@@ -35,6 +35,8 @@ def test_compare_drystone_writes_its_outputs(tmp_path):
     assert "numerical, not physical" in r["note"]
     saved = json.loads((run / "result.json").read_text())
     assert saved["dem"]["critical_height_m"] == r["dem"]["critical_height_m"]
+    from viz.readback import entity_paths
+    assert {"/world/blocks", "/world/water", "/world/joint_forces", "/case"} <= entity_paths(run / "recording.rrd")
     header = (run / "history.csv").read_text().splitlines()[0]
     assert header == "water_height_m,crest_displacement_m,settled,time_s"
 
