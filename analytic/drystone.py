@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Callable, Iterable, Mapping
 
 import numpy as np
@@ -61,6 +62,8 @@ def _tan(deg: float) -> float:
     return math.tan(math.radians(deg))
 
 
+# design/blocks.py builds on this module, so the polygon helpers of analytic/design are
+# imported on first use (a module-level import would be circular through design/__init__)
 def _area_centroid(poly: list[Point]) -> tuple[float, float, float]:
     """Area [m2] and centroid [m] of a simple polygon (shoelace)."""
     from .design.geometry import area_centroid
@@ -70,6 +73,11 @@ def _area_centroid(poly: list[Point]) -> tuple[float, float, float]:
 def _clip_above(poly: list[Point], point: Point, slope: float) -> list[Point]:
     from .design.geometry import clip_above
     return clip_above(poly, point, slope)
+
+
+def crest_width(height_m: float, base_width_m: float, batter_outer_deg: float, batter_inner_deg: float) -> float:
+    """b_c = b - h (tan lambda1 + tan lambda2) [m] (ref. 5.3 trapezoid), unchecked."""
+    return base_width_m - height_m * (_tan(batter_outer_deg) + _tan(batter_inner_deg))
 
 
 @dataclass(frozen=True)
@@ -107,7 +115,7 @@ class WallSection:
     @property
     def crest_width_m(self) -> float:
         """b_c = b - h (tan lambda1 + tan lambda2) [m]."""
-        return self.base_width_m - self.height_m * (_tan(self.batter_outer_deg) + _tan(self.batter_inner_deg))
+        return crest_width(self.height_m, self.base_width_m, self.batter_outer_deg, self.batter_inner_deg)
 
     def x_outer(self, y: float) -> float:
         """x_o(y) = y tan(lambda1) [m] (ref. 5.3)."""
@@ -120,10 +128,14 @@ class WallSection:
     def polygon(self) -> list[Point]:
         """The section [m]: the trapezoid between the faces below the crest, cut at the
         base, the bed plane through the outer toe dipping inward at alpha (ref. 5.3)."""
+        return list(self._polygon)
+
+    @cached_property
+    def _polygon(self) -> tuple:
         lo = -self.base_width_m * (1 + abs(_tan(self.joint_slope_deg))) - 1.0
         h = self.height_m
         quad = [(self.x_outer(lo), lo), (self.x_inner(lo), lo), (self.x_inner(h), h), (self.x_outer(h), h)]
-        return _clip_above(quad, (0.0, 0.0), -_tan(self.joint_slope_deg))
+        return tuple(_clip_above(quad, (0.0, 0.0), -_tan(self.joint_slope_deg)))
 
     def heel(self) -> Point:
         """The heel, where the base plane meets the inner face [m]:
@@ -142,7 +154,7 @@ class WallSection:
         (ref. 5.4 with s = -tan(alpha), ref. 5.5 with s = tan(theta))."""
         s = -_tan(self.joint_slope_deg) if slope is None else slope
         t2 = _tan(self.batter_inner_deg)
-        poly = _clip_above(self.polygon(), (self.x_outer(z), z), s)
+        poly = _clip_above(self._polygon, (self.x_outer(z), z), s)
         y_I = (z + (self.base_width_m - self.x_outer(z)) * s) / (1 + t2 * s)
         return poly, y_I
 
@@ -219,7 +231,7 @@ def water_thrust(section: WallSection, y_I: float, h_w: float) -> tuple[float, f
     [kN/m], horizontal, outward, at y_H = y_I + (h_w - y_I) / 3; V = H tan(lambda2)
     [kN/m], downward, at the face point x_i(y_H). Returns (H, V, x_H, y_H)."""
     d = max(h_w - y_I, 0.0)
-    H = 0.5 * GAMMA_W * d * d
+    H = 0.5 * GAMMA_W * d ** 2
     y_H = y_I + d / 3
     return H, H * _tan(section.batter_inner_deg), section.x_inner(y_H), y_H
 
@@ -303,12 +315,17 @@ def toppling_water_height(section: WallSection, z: float, theta_deg: float, gamm
     t2 = _tan(section.batter_inner_deg)
     a = GAMMA_W * (1 + t2 * t2) / 6
     c = GAMMA_W * ((1 + t2 * t2) * y_I - z - t2 * (section.base_width_m - xo)) / 2
-    # unique positive root: g(d) = a d^3 + c d^2 - M is < 0 up to max(0, -c/a), then rises
-    lo = max(0.0, -c / a)
-    hi = lo + 1.0
-    while a * hi ** 3 + c * hi ** 2 < M:
-        hi *= 2
-    d = brentq(lambda x: a * x ** 3 + c * x ** 2 - M, lo, hi, xtol=1e-12, rtol=1e-13)
+    # unique positive root: g(d) = a d^3 + c d^2 - M is < 0 up to max(0, -c/a), then
+    # rises and is convex (g'' > 0 for d > -c/3a): Newton from a point right of the root
+    # decreases monotonically onto it
+    d = max(0.0, -c / a) + 1.0
+    while a * d ** 3 + c * d * d < M:
+        d *= 2
+    for _ in range(100):
+        step = (a * d ** 3 + c * d * d - M) / (3 * a * d * d + 2 * c * d)
+        d -= step
+        if step <= 1e-14 * d:
+            break
     return y_I + d
 
 
@@ -399,14 +416,23 @@ def _theta_range(section: WallSection, staircase_m: float, method: str) -> tuple
 
 def _search(section: WallSection, method: str, course_height_m: float, staircase_m: float,
             slide: Callable[[float], float], topple: Callable[[float, float], float],
-            n_z: int = 200, n_theta: int = 17, n_z_topple: int = 50) -> tuple:
-    """(h_S, z_S, h_T, z_T, theta_T) minimised over the mechanisms of ``method``."""
+            n_z: int = 200, n_theta: int = 17, n_z_topple: int = 40, water: bool = True) -> tuple:
+    """(h_S, z_S, h_T, z_T, theta_T) minimised over the mechanisms of ``method``.
+
+    With water (``water``), a mechanism that no level reaches below the crest is reported
+    by its base-joint value (z = 0): the balance extended above the crest tends to h from
+    above as z -> h (a vanishing top sliver), so its minimum over z would only say "h";
+    the base value measures the margin, as ref. 2.3 reports V2L's sliding at 2.01 m."""
     h = section.height_m
     t_lo, t_hi = _theta_range(section, staircase_m, method)
     if method == "bed-joints":
         zs = _joint_levels(section, course_height_m)
         h_s, z_s = _min_over(slide, zs, 0.0, h, refine=False)
         h_t, z_t = _min_over(lambda z: topple(z, t_lo), zs, 0.0, h, refine=False)
+        if water and h_s >= h:
+            h_s, z_s = slide(0.0), 0.0
+        if water and h_t >= h:
+            h_t, z_t = topple(0.0, t_lo), 0.0
         return h_s, z_s, h_t, z_t, t_lo
     zs = [h * k / n_z for k in range(n_z)]  # z = h excluded: nothing above it
     z_max = h * (1 - 0.5 / n_z)
@@ -416,19 +442,25 @@ def _search(section: WallSection, method: str, course_height_m: float, staircase
     def best_theta(z, refine=True):
         return _min_over(lambda t: topple(z, t), thetas, t_lo, t_hi, refine=refine and len(thetas) > 1)
 
-    # (z, theta) grid, then theta refined at the best z and z refined around it
+    # (z, theta) grid, then coordinate descent in the grid cells around the best point:
+    # theta at that z, z at that theta, theta again
     zc = [h * k / n_z_topple for k in range(n_z_topple)]
     per_z = [best_theta(z, refine=False) for z in zc]
     k = int(np.argmin([p[0] for p in per_z]))
+    h_t, th = best_theta(zc[k])
     z_t = zc[k]
-    h_t, th = best_theta(z_t)
     a, b = zc[max(k - 1, 0)], zc[k + 1] if k + 1 < len(zc) else z_max
     if math.isfinite(h_t) and b > a:
-        r = minimize_scalar(lambda z: min(best_theta(z)[0], _BIG), bounds=(a, b), method="bounded",
-                            options={"xatol": 1e-6})
+        r = minimize_scalar(lambda z: min(topple(z, th), _BIG), bounds=(a, b), method="bounded",
+                            options={"xatol": 1e-7})
         if r.fun < h_t:
             z_t = float(r.x)
             h_t, th = best_theta(z_t)
+    if water and h_s >= h:
+        h_s, z_s = slide(0.0), 0.0
+    if water and h_t >= h:
+        z_t = 0.0
+        h_t, th = best_theta(0.0)
     return h_s, z_s, h_t, z_t, th
 
 
@@ -500,7 +532,7 @@ def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_k
     found = _search(section, method, course_height_m, staircase_m,
                     lambda z: sliding_fill_height(section, z, phi_b_deg, *args),
                     lambda z, t: toppling_fill_height(section, z, t, *args), n_z=100, n_theta=13,
-                    n_z_topple=40)
+                    n_z_topple=40, water=False)
     return _result(section, method, "backfill", *found)
 
 
@@ -538,7 +570,8 @@ def band(results: Mapping[str, LimitEquilibrium]) -> Band:
 def water_band(sections: Mapping[str, WallSection], phi_b_deg: float, gamma_m_values: Iterable[float],
                joint_slopes_deg: Iterable[float] | None = None, **kwargs) -> Band:
     """``water_limit_equilibrium`` over every section x unit weight [kN/m3] x joint slope
-    alpha [deg] (None: each section's own); labels "<section> gamma_m=<g> alpha=<a>".
+    alpha [deg] (None: each section's own); labels "<section> gamma_m=<g> alpha=<a>";
+    ``kwargs`` go to ``water_limit_equilibrium`` (staircase_m, method, course_height_m).
     Issue 23 asks for both geometries (ref. 2.3 and 6), gamma_m 18-22 and alpha 0-8.5 deg."""
     out = {}
     gammas = list(gamma_m_values)

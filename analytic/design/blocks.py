@@ -25,16 +25,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 from scipy.optimize import minimize_scalar
 
+from ..drystone import WallSection, crest_width, water_thrust
 from ..errors import InvalidParameter
 from ..inputs import require_number
 from .actions import Force, design_backfill, thrust_forces
-from .case import GAMMA_W, DesignCase, design_angle
+from .case import DesignCase, design_angle
 from .checks import factor_of, make_check, overturning_moments, resultant
 from .earth import design_thrust
-from .geometry import area_centroid, clip_above
+from .geometry import area_centroid
 from .walls import Part, WallBack
 
 
@@ -84,22 +86,24 @@ class BlockWall:
 
     @property
     def crest(self) -> float:
-        """Crest width [m]."""
-        t1, t2 = (math.tan(math.radians(a)) for a in (self.front_batter, self.back_batter))
-        return self.base - self.height * (t1 + t2)
+        """Crest width [m] (checked before ``profile`` exists, so the message names wall.base)."""
+        return crest_width(self.height, self.base, self.front_batter, self.back_batter)
+
+    @cached_property
+    def profile(self) -> WallSection:
+        """The section as the dry-stone limit equilibrium sees it (analytic/drystone.py):
+        one geometry for the design checks and the dry-stone study."""
+        return WallSection(self.height, self.base, self.front_batter, self.back_batter, self.joint_slope)
 
     def x_o(self, y: float) -> float:
-        return y * math.tan(math.radians(self.front_batter))
+        return self.profile.x_outer(y)
 
     def x_i(self, y: float) -> float:
-        return self.base - y * math.tan(math.radians(self.back_batter))
+        return self.profile.x_inner(y)
 
     def section(self) -> list:
         """The section polygon, its base the bed plane through the toe."""
-        lo = -self.base * (1 + abs(math.tan(math.radians(self.joint_slope)))) - 1.0
-        h = self.height
-        quad = [(self.x_o(lo), lo), (self.x_i(lo), lo), (self.x_i(h), h), (self.x_o(h), h)]
-        return clip_above(quad, (0.0, 0.0), -math.tan(math.radians(self.joint_slope)))
+        return self.profile.polygon()
 
     def joints(self) -> list[float]:
         """Heights z_k [m] where the bed joints leave the outer face (z_0 = 0: the base)."""
@@ -107,13 +111,9 @@ class BlockWall:
 
     def above(self, z: float, slope: float | None = None) -> tuple[list, float]:
         """The part above the line through (x_o(z), z) with dy/dx = slope (default the
-        bed joint, -tan alpha), and where that line meets the inner face, y_I [m]:
-        y_I = [z + (b - x_o(z)) s] / (1 + tan(lambda2) s)."""
-        s = -math.tan(math.radians(self.joint_slope)) if slope is None else slope
-        t2 = math.tan(math.radians(self.back_batter))
-        poly = clip_above(self.section(), (self.x_o(z), z), s)
-        y_I = (z + (self.base - self.x_o(z)) * s) / (1 + t2 * s)
-        return poly, y_I
+        bed joint, -tan alpha), and where that line meets the inner face, y_I [m]
+        (``WallSection.part_above``)."""
+        return self.profile.part_above(z, slope)
 
     def parts(self) -> list[Part]:
         return [Part("masonry", tuple(self.section()), self.unit_weight, "structural")]
@@ -138,12 +138,10 @@ def joint_forces(case: DesignCase, z: float, materials: dict, kh: float = 0.0,
     out = [Force("masonry above joint", "G", "structural", 0.0, W, xg, yg)]
     if kh > 0 or kv != 0:
         out.append(Force("masonry inertia", "E", "structural", kh * W, -kv * W, xg, yg))
-    t2 = math.tan(math.radians(wall.back_batter))
     hw = min(case.water.behind, wall.height)
     if hw > y_I and case.backfill is None:
-        Hw = 0.5 * GAMMA_W * (hw - y_I) ** 2
-        yH = y_I + (hw - y_I) / 3
-        out.append(Force("water on back", "G", "geotechnical", Hw, Hw * t2, wall.x_i(yH), yH))
+        Hw, Vw, xH, yH = water_thrust(wall.profile, y_I, hw)
+        out.append(Force("water on back", "G", "geotechnical", Hw, Vw, xH, yH))
     if case.backfill is not None and wall.height > y_I:
         fill = design_backfill(case.backfill, materials)
         back = WallBack(wall.x_i(y_I), y_I, wall.height - y_I, wall.back_batter)
