@@ -16,9 +16,13 @@ Layout (docs/dem2d.md has the why):
 * ``sim``         Sim (space + grains + walls + clock), snapshot / restore
 * ``pluviation``  layered pluviation
 * ``biaxial``     biaxial test with a stress-controlled piston; band angle
+* ``blocks``      dry-stone walls of rigid polygon blocks (courses, staggered joints,
+                  counter-slope), pair friction, hydrostatic water, loading to failure,
+                  sliding / toppling classifier, tilt tests
 """
 
 from .biaxial import BiaxialCase, BiaxialResult, BiaxialTest
+from .blocks import BlockSolver, BlockWall, LoadingPlan, LoadingResult, Masonry, Mechanism, load_to_failure
 from .build import Grains, add_clumps, add_disks, add_polygons, friction_split, new_space
 from .frames import Frame, body_state, grain_contacts, make_frame
 from .grading import Grading
@@ -28,7 +32,8 @@ from .probes import PanelProbe
 from .sim import Sim, restore
 from .walls import Fixed, PanelWall, RotateAbout, Schedule, Translate, panel_wall
 
-__all__ = ["BiaxialCase", "BiaxialResult", "BiaxialTest", "Grains", "add_clumps", "add_disks",
+__all__ = ["BiaxialCase", "BiaxialResult", "BiaxialTest", "BlockSolver", "BlockWall", "LoadingPlan",
+           "LoadingResult", "Masonry", "Mechanism", "load_to_failure", "Grains", "add_clumps", "add_disks",
            "add_polygons", "friction_split", "new_space", "Frame", "body_state", "grain_contacts",
            "make_frame", "Grading", "Material", "Solver", "Pluviation", "pluviate", "PanelProbe",
            "Sim", "restore", "Fixed", "PanelWall", "RotateAbout",

@@ -3,7 +3,10 @@
 World (2D or 3D scene, in metres)::
 
     world/particles        Points2D/3D: positions per frame; radii static; colours per frame
-    world/blocks           LineStrips2D: outlines of polygon blocks (dry-stone walls)
+    world/blocks           LineStrips2D: outlines of polygon blocks (dry-stone walls),
+                           coloured by displacement since the first frame
+    world/water            LineStrips2D: the water surface on the inner face (dry-stone walls)
+    world/joint_forces     Points2D: contact points of the block joints, radius ~ normal force
     world/wall             LineStrips: wall panels, coloured by normal stress
     world/force_chains     LineStrips: contacts above the mean normal force, radius ~ force
     world/displacement     Arrows: particle displacement since the first frame (subsampled)
@@ -20,6 +23,8 @@ Time series::
     metrics/resultant_height_over_H       height of the resultant / H
     metrics/panel_stress_kPa/<i>   normal stress on panel i
     metrics/kinetic_energy_J
+    metrics/crest_displacement_mm   outward crest movement of a dry-stone wall
+    metrics/water_height_m          water height on its inner face
 
     case                   TextDocument: case description and resolved config (static)
 
@@ -31,6 +36,8 @@ timelines are integers or times.
 WORLD = "world"
 PARTICLES = "world/particles"
 BLOCKS = "world/blocks"
+WATER = "world/water"
+JOINT_FORCES = "world/joint_forces"
 WALL = "world/wall"
 FORCE_CHAINS = "world/force_chains"
 DISPLACEMENT = "world/displacement"

@@ -73,6 +73,15 @@ def khosravi_blueprint() -> rrb.Blueprint:
     return default_blueprint(2, scene_name="disks, pressure cells and force chains")
 
 
+def drystone_blueprint() -> rrb.Blueprint:
+    """Dry-stone walls: blocks, water and joint forces; crest movement and water height."""
+    scene = rrb.Spatial2DView(origin=P.WORLD, name="blocks (colour: displacement), water, joint forces")
+    right = rrb.Vertical(rrb.TimeSeriesView(origin=f"{P.METRICS}/crest_displacement_mm", name="crest displacement mm"),
+                         rrb.TimeSeriesView(origin=f"{P.METRICS}/water_height_m", name="water height m"),
+                         rrb.TextDocumentView(origin=P.CASE, name="case"))
+    return rrb.Blueprint(rrb.Horizontal(scene, right, column_shares=[3, 2]), collapse_panels=True)
+
+
 def _timed(method):
     """Add the method's wall time to ``self.seconds`` (the cost of recording, reported per run)."""
     @functools.wraps(method)
@@ -240,6 +249,33 @@ class Recorder:
         Arrows = rr.Arrows3D if self.dim == 3 else rr.Arrows2D
         self.rec.log(P.DISPLACEMENT, Arrows(origins=x0[::k].astype(np.float32),
                                             vectors=(x1 - x0)[::k].astype(np.float32)))
+
+    @_timed
+    def log_block_wall(self, step: int, time: float, outlines: list, displacement: np.ndarray, *,
+                       water_height: float, water_x: tuple[float, float],
+                       contact_points: np.ndarray | None = None, contact_forces: np.ndarray | None = None,
+                       metrics: dict[str, float] | None = None) -> None:
+        """A wall of polygon blocks: outlines (k,2) coloured by each block's displacement
+        magnitude (m, viridis up to the largest), the water surface as a line over
+        ``water_x`` at ``water_height``, and joint contact points sized by normal force."""
+        if self.rec is None:
+            return
+        self._remember(step, time, None, metrics)
+        self._set_time(step, time, None)
+        d = np.asarray(displacement, float)
+        colours = _viridis(d, float(d.max()) if len(d) and d.max() > 0 else 1.0)
+        strips = [np.vstack([b, b[:1]]).astype(np.float32) for b in outlines]
+        self.rec.log(P.BLOCKS, rr.LineStrips2D(strips, colors=colours, radii=[0.004]))
+        self.rec.log(P.WATER, rr.LineStrips2D([np.array([[water_x[0], water_height], [water_x[1], water_height]],
+                                                        np.float32)], colors=[[40, 110, 230]], radii=[0.01]))
+        if contact_points is not None and len(contact_points):
+            f = np.asarray(contact_forces, float)
+            radii = (0.03 * f / f.max()).astype(np.float32) if f.max() > 0 else np.full(len(f), 0.002, np.float32)
+            self.rec.log(P.JOINT_FORCES, rr.Points2D(np.asarray(contact_points, np.float32), radii=radii,
+                                                     colors=[[200, 30, 30]]))
+        self._logged += 1
+        if self._logged % self.flush_every == 0:
+            self.rec.flush()
 
     # ------------------------------------------------------------------ series
     @_timed

@@ -1,0 +1,110 @@
+"""Dry-stone retaining walls, case A (Oetomo et al.'s PFC2D study of Villemus's five walls
+loaded by water): rigid blocks on pymunk (``dem2d.blocks``) to failure, beside the
+rigid-block limit equilibrium (``analytic.drystone``) and the site measurements.
+
+Modules: ``case`` (the case record, the two geometry estimates, what is assumed),
+``run`` (one wall: DEM, limit equilibrium, run folder), ``validate`` (five walls, the
+solver-convergence check and the bands -> docs/validation/drystone.{md,json}). Data:
+``reference.json`` (from ../shared/reference/drystone-walls.md). The study record is
+``STUDY``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+from ..options import RECORDING, number, output_folder
+from ..study import Command, Option, Study
+from .case import DIRECTIONS, GEOMETRIES, WALLS
+
+
+def _default_case():
+    from .case import DrystoneCase
+    return DrystoneCase()
+
+
+def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    from ..progress import progress
+    from ..runner import closing_line
+    from .run import compare_wall
+
+    with progress(opts.quiet) as bar:
+        task = bar.add_task(f"{case.wall}: water raised (% of h)", total=100)
+
+        def tick(hw, crest):
+            bar.update(task, completed=100 * hw / case.section().height_m, status=f"crest {crest * 1e3:.2f} mm")
+        result, folder = compare_wall(case, root=Path(opts.out), rrd=opts.rrd if isinstance(opts.rrd, str) else None,
+                                      record=not opts.no_rrd, spawn=opts.spawn, progress=tick)
+    return result, closing_line(result, None, folder)
+
+
+def _compare_text(r: dict) -> str:
+    d, le, m = r["dem"], r["limit_equilibrium"]["yield-design"], r["measured"]
+    crit = "stands to the crest" if d["critical_height_m"] is None else f"{d['critical_height_m']:.3f} m"
+    lines = [f"{r['wall']} ({r['geometry']} geometry, b {r['section']['base_width_m']:.3g} m, "
+             f"{d['blocks']} blocks): DEM {crit}, {d['mode']} at {d['mechanism_level_m']} m",
+             f"  limit equilibrium {le['critical_height_m']:.3f} m {le['mode']}; measured {m['height_m']:.2f} m "
+             f"{m['mode']}; paper's DEM {r['paper_dem']['height_m']:.2f} m {r['paper_dem']['mode']}",
+             f"  wall {r['wall_time_s']:.1f} s, CPU {r['cpu_time_s']:.1f} s; {r['note']}",
+             "  assumed: " + "; ".join(r["assumptions"])]
+    return "\n".join(lines)
+
+
+def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    import sys
+
+    from .validate import validate_drystone
+    rep = validate_drystone(case, out_dir=Path(opts.docs), walls=opts.walls, band=opts.band,
+                            convergence=not opts.no_convergence,
+                            log=None if opts.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True)))
+    return rep, f"report: {Path(opts.docs) / 'drystone.md'}"
+
+
+def _walls(text: str) -> list[str]:
+    from analytic.errors import InvalidParameter
+    words = [w.strip() for w in text.split(",") if w.strip()]
+    for w in words or [text]:
+        if w not in WALLS:
+            raise InvalidParameter("walls", w, " | ".join(WALLS))
+    return words
+
+
+_CASE_OPTIONS = (
+    Option("--geometry", "back-fit (reference 2.3) or disk-count (reference 6) (back-fit)", key="geometry",
+           choices=GEOMETRIES),
+    Option("--gamma-m", "masonry unit weight [kN/m3] (20, assumed)", key="unit_weight_kN_m3",
+           parse=number("gamma-m", 5, 40, unit="kN/m3")),
+    Option("--alpha", "joint counter-slope [deg] (the wall's: V5S 8.53, others 0 assumed)", key="joint_slope_deg",
+           parse=number("alpha", 0, 30, lo_open=False, unit="deg")),
+    Option("--water-direction", "normal to the current face, or fixed at its initial normal (the paper's) (normal)",
+           key="water_direction", choices=DIRECTIONS),
+    Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 0, 2e-3, unit="s")),
+)
+
+COMPARE = Command(
+    verb="compare", help="one of Villemus's dry-stone walls loaded by water to failure (2D rigid blocks)",
+    description="Courses of 0.30 x 0.125 m rigid blocks with staggered joints, first course fixed, water raised "
+                "by 1 % of h per increment until the wall fails; DEM beside the limit equilibrium and the site "
+                "value. Example: wallsim compare drystone --wall V3L --geometry disk-count",
+    default_case=_default_case, run=_compare, text=_compare_text, seed_key=None,
+    options=(Option("--wall", "V1L | V2L | V3L | V4L | V5S (V1L)", key="wall", choices=WALLS),
+             *_CASE_OPTIONS, *RECORDING[:3]))
+
+VALIDATE = Command(
+    verb="validate", help="case A: the five walls, solver convergence and the bands (minutes)",
+    description="Every wall at the default settings, again with dt / 2 and twice the iterations, and the band "
+                "of critical heights over both geometries, gamma_m 18-22 kN/m3 and alpha 0-8.5 deg; writes "
+                "docs/validation/drystone.{md,json} and figures.",
+    default_case=_default_case, run=_validate, text=lambda rep: None, seed_key=None,
+    options=(Option("--case", "A: water (Villemus's walls) (A)", choices=("A",), default="A"),
+             Option("--walls", "comma list of V1L,V2L,V3L,V4L,V5S (all)", parse=_walls, default=list(WALLS)),
+             Option("--band", "dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
+                    choices=("dem", "le"), default="dem"),
+             Option("--no-convergence", "skip the dt / 2, 2 x iterations repeat", switch=True),
+             *_CASE_OPTIONS[3:],
+             Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
+                    parse=output_folder("docs"))))
+
+STUDY = Study(name="drystone", title="Dry-stone retaining walls loaded by water (Oetomo et al.; Villemus's walls)",
+              commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -1,0 +1,151 @@
+"""The dry-stone case record and what it resolves to: the wall's section (one of the two
+geometry estimates of ../shared/reference/drystone-walls.md), masonry, solver and
+loading plan, with every value tagged found / derived / assumed."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from analytic.drystone import WallSection
+from analytic.errors import InvalidParameter
+from analytic.inputs import require_number
+
+WALLS = ("V1L", "V2L", "V3L", "V4L", "V5S")
+GEOMETRIES = ("back-fit", "disk-count")
+DIRECTIONS = ("normal", "fixed")
+REFERENCE = Path(__file__).with_name("reference.json")
+
+
+def reference() -> dict:
+    return json.loads(REFERENCE.read_text())
+
+
+@dataclass(frozen=True)
+class DrystoneCase:
+    """One of Villemus's walls loaded by water (case A).
+
+    wall:               V1L | V2L | V3L | V4L | V5S
+    geometry:           "back-fit" (reference 2.3, the default) or "disk-count" (reference 6)
+    unit_weight_kN_m3:  gamma_m [kN/m^3] (ASSUMPTION 20, plausible 18-22)
+    joint_slope_deg:    alpha [deg]; None: the wall's value (V5S 8.53 found, else 0 assumed)
+    height_m:           wall height [m]; None: the wall's (found). A smaller wall is for tests
+    base_width_m:       base width [m]; None: the geometry's (assumed or derived)
+    water_direction:    "normal" (to the current face) or "fixed" (S-OET's: the initial normal)
+    increment_fraction: water added per increment, fraction of h (S-OET: 0.01)
+    dt:                 time step [s]
+    iterations:         contact-solver sweeps per step
+    block_length_m, block_height_m: block size [m] (S-OET: 0.30 x 0.125)
+    """
+
+    wall: str = "V1L"
+    geometry: str = "back-fit"
+    unit_weight_kN_m3: float = 20.0
+    joint_slope_deg: float | None = None
+    height_m: float | None = None
+    base_width_m: float | None = None
+    water_direction: str = "normal"
+    increment_fraction: float = 0.01
+    dt: float = 5e-4
+    iterations: int = 20
+    block_length_m: float = 0.30
+    block_height_m: float = 0.125
+
+    def __post_init__(self):
+        if self.wall not in WALLS:
+            raise InvalidParameter("wall", self.wall, " | ".join(WALLS))
+        if self.geometry not in GEOMETRIES:
+            raise InvalidParameter("geometry", self.geometry, " | ".join(GEOMETRIES))
+        if self.water_direction not in DIRECTIONS:
+            raise InvalidParameter("water_direction", self.water_direction, " | ".join(DIRECTIONS))
+        require_number("unit_weight_kN_m3", self.unit_weight_kN_m3, 5.0, 40.0, unit="kN/m^3")
+        if self.joint_slope_deg is not None:
+            require_number("joint_slope_deg", self.joint_slope_deg, 0.0, 30.0, lo_open=False, unit="deg")
+        if self.height_m is not None:
+            require_number("height_m", self.height_m, 2 * self.block_height_m, 20.0, unit="m")
+        if self.base_width_m is not None:
+            require_number("base_width_m", self.base_width_m, self.block_length_m, 10.0, unit="m")
+        require_number("increment_fraction", self.increment_fraction, 0.0, 0.2, unit="")
+        require_number("dt", self.dt, 0.0, 2e-3, unit="s")
+        if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
+            raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
+        require_number("block_length_m", self.block_length_m, 0.05, 2.0, unit="m")
+        require_number("block_height_m", self.block_height_m, 0.02, 1.0, unit="m")
+        self.section()        # the section itself checks the widths (crest > 0)
+
+    def wall_reference(self) -> dict:
+        return reference()["walls"][self.wall]
+
+    def section(self) -> WallSection:
+        """The section this case builds (raises InvalidParameter if the crest vanishes)."""
+        w = self.wall_reference()
+        h = w["height_m"]["value"] if self.height_m is None else self.height_m
+        b = w["geometry"][self.geometry]["base_width_m"] if self.base_width_m is None else self.base_width_m
+        a = w["joint_slope_deg"]["value"] if self.joint_slope_deg is None else self.joint_slope_deg
+        return WallSection(h, b, w["batter_outer_deg"]["value"], w["batter_inner_deg"]["value"], a)
+
+    @property
+    def phi_b_deg(self) -> float:
+        return self.wall_reference()["phi_b_deg"]["value"]
+
+
+def assumptions(case: DrystoneCase) -> list[str]:
+    """Which values of this run are assumptions or derived, one line each (every output
+    repeats these)."""
+    w = case.wall_reference()
+    s = case.section()
+    g = w["geometry"][case.geometry]
+    lines = []
+    if case.base_width_m is None:
+        tag = "ASSUMED" if g["tag"] == "A" else "derived"
+        lines.append(f"base width {s.base_width_m:.3g} m ({tag}: {case.geometry} geometry"
+                     + (f", {g['note']}" if "note" in g else "") + ")")
+    else:
+        lines.append(f"base width {s.base_width_m:.3g} m (set for this run)")
+    lines.append(f"crest width {s.crest_width_m:.3g} m (follows from the base width and the batter)")
+    if w["batter_outer_deg"]["tag"] == "A":
+        lines.append(f"outer batter {s.batter_outer_deg:g} deg (ASSUMED: not found)")
+    elif s.batter_outer_deg:
+        lines.append(f"outer batter {s.batter_outer_deg:g} deg (found, read in degrees; 15 % = 8.53 deg possible)")
+    lines.append(f"inner face vertical (ASSUMED)")
+    if case.joint_slope_deg is not None:
+        lines.append(f"joint counter-slope {s.joint_slope_deg:g} deg (set for this run)")
+    elif w["joint_slope_deg"]["tag"] == "A":
+        lines.append("joint counter-slope 0 deg (ASSUMED: not found, 0-8.5 plausible)")
+    lines.append(f"unit weight {case.unit_weight_kN_m3:g} kN/m3 (ASSUMED: not found, 18-22 plausible)")
+    if case.height_m is not None:
+        lines.append(f"wall height {s.height_m:g} m (set for this run; the real wall is "
+                     f"{w['height_m']['value']:g} m)")
+    return lines
+
+
+def masonry(case: DrystoneCase):
+    from dem2d.blocks import Masonry
+    return Masonry(unit_weight_kN_m3=case.unit_weight_kN_m3, friction_deg=case.phi_b_deg,
+                   block_length_m=case.block_length_m, block_height_m=case.block_height_m,
+                   first_course_fixed=True)
+
+
+def solver(case: DrystoneCase):
+    from dem2d.blocks import BlockSolver
+    return BlockSolver(dt=case.dt, iterations=case.iterations)
+
+
+def plan(case: DrystoneCase):
+    from dem2d.blocks import LoadingPlan
+    return LoadingPlan(increment_fraction=case.increment_fraction, direction=case.water_direction)
+
+
+def staircase_m(case: DrystoneCase) -> float:
+    """m = 2 h_block / l_block (reference 2.3 [A]: 0.83 for 0.30 x 0.125 m blocks)."""
+    return 2 * case.block_height_m / case.block_length_m
+
+
+def mode_word(letter_or_word: str) -> str:
+    return {"S": "sliding", "T": "toppling"}.get(letter_or_word, letter_or_word)
+
+
+def percent_error(value: float, target: float) -> float:
+    return 100.0 * (value - target) / target if math.isfinite(value) else math.nan

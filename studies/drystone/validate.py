@@ -1,0 +1,175 @@
+"""``wallsim validate drystone --case A``: the five walls at the default settings, the
+solver-convergence repeat (dt / 2, twice the iterations) and the band of critical
+heights over the missing data (both geometries, gamma_m 18-22 kN/m3, alpha 0-8.5 deg for
+the limestone walls) -> docs/validation/drystone.{md,json} and drystone/ figures."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import time
+from dataclasses import replace
+from pathlib import Path
+
+from ..runfolder import git_revision, package_versions, to_plain
+from ..store import atomic_write
+from .case import GEOMETRIES, DrystoneCase, assumptions, reference
+from .run import RIGID_NOTE, limit_equilibrium, run_dem, wall_result
+
+CONVERGENCE_LIMIT_PERCENT = 2.0      # issue 23: < 2 % change in critical height, never the mode
+ACCURACY_LIMIT_PERCENT = 10.0        # issue 23: within 10 % of the measured height
+
+
+def band_corners(case: DrystoneCase) -> list[DrystoneCase]:
+    """The corners of the missing-data box: geometry x gamma_m (18, 22) x alpha (0, 8.5)
+    for the limestone walls (alpha is found for V5S)."""
+    ref = reference()
+    g_lo, g_hi = ref["unit_weight_range_kN_m3"]["value"]
+    a_lo, a_hi = ref["joint_slope_range_deg"]["value"]
+    alphas = (None,) if ref["walls"][case.wall]["joint_slope_deg"]["tag"] == "F" else (a_lo, a_hi)
+    return [replace(case, geometry=g, unit_weight_kN_m3=gm, joint_slope_deg=a)
+            for g, gm, a in itertools.product(GEOMETRIES, (g_lo, g_hi), alphas)]
+
+
+def _le_height(case: DrystoneCase) -> tuple[float, bool]:
+    """Yield-design critical height [m] (above the crest: the balance extended past it, the
+    wall stands with water at its crest) and whether it stands."""
+    le = limit_equilibrium(case)["yield-design"]
+    return le["critical_height_m"], bool(le["stands_to_crest"])
+
+
+def band(case: DrystoneCase, dem: bool, log=None) -> dict:
+    """Critical heights over the band corners: the limit equilibrium at every corner, and
+    (``dem``) the DEM at the corners where it is lowest, highest, and highest with the
+    default (back-fit) geometry."""
+    corners = band_corners(case)
+    found = [_le_height(c) for c in corners]
+    les = [h for h, _ in found]
+    rows = [{"geometry": c.geometry, "unit_weight_kN_m3": c.unit_weight_kN_m3,
+             "joint_slope_deg": c.section().joint_slope_deg, "limit_equilibrium_height_m": h,
+             "limit_equilibrium_stands_to_crest": st} for c, (h, st) in zip(corners, found)]
+    h_wall = case.section().height_m
+    out = {"corners": rows, "limit_equilibrium_band_m": [min(les), None if max(les) >= h_wall else max(les)],
+           "source": "limit equilibrium (None: stands with water at the crest)"}
+    if not dem:
+        out["band_m"] = out["limit_equilibrium_band_m"]
+        return out
+    back = [i for i, c in enumerate(corners) if c.geometry == "back-fit"]
+    picks = sorted({les.index(min(les)), max(back, key=lambda i: les[i]), les.index(max(les))})
+    for i in picks:
+        _, res, seconds, cpu = run_dem(corners[i])
+        rows[i] |= {"dem_height_m": res.critical_height_m if res.failed else None,
+                    "dem_mode": res.mechanism.mode if res.mechanism else None,
+                    "dem_stands_to_crest": not res.failed, "wall_time_s": seconds, "cpu_time_s": cpu}
+        if log:
+            log(f"  band corner {rows[i]['geometry']}, gamma {rows[i]['unit_weight_kN_m3']:g}, alpha "
+                f"{rows[i]['joint_slope_deg']:g}: DEM {rows[i]['dem_height_m']} ({rows[i]['dem_mode']})")
+    dem_vals = [rows[i]["dem_height_m"] for i in picks]
+    lo = min(v for v in dem_vals if v is not None) if any(v is not None for v in dem_vals) else None
+    hi = None if any(v is None for v in dem_vals) else max(dem_vals)
+    out |= {"band_m": [lo, hi], "source": "DEM at the corners of lowest, highest and highest back-fit limit equilibrium",
+            "hi_stands_to_crest": hi is None}
+    return out
+
+
+def convergence(case: DrystoneCase, base: dict) -> dict:
+    """The same wall with dt / 2 and twice the iterations (issue 23)."""
+    fine = replace(case, dt=case.dt / 2, iterations=case.iterations * 2)
+    wall, res, seconds, cpu = run_dem(fine)
+    h0, h1 = base["dem"]["critical_height_m"], res.critical_height_m if res.failed else None
+    change = 100 * abs(h1 - h0) / h0 if h0 and h1 else math.nan
+    mode1 = res.mechanism.mode if res.mechanism else None
+    return {"dt_s": fine.dt, "iterations": fine.iterations, "critical_height_m": h1, "mode": mode1,
+            "change_percent": change, "mode_same": mode1 == base["dem"]["mode"],
+            "holds": bool(change < CONVERGENCE_LIMIT_PERCENT and mode1 == base["dem"]["mode"]),
+            "wall_time_s": seconds, "cpu_time_s": cpu}
+
+
+def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: bool, log=None) -> dict:
+    """One wall: the default run (with its figures), the convergence repeat, the band."""
+    from viz.figures import plot_drystone_history, plot_drystone_mechanism
+
+    wall, res, seconds, cpu = run_dem(case)
+    r = wall_result(case, wall, res, seconds, cpu)
+    if log:
+        log(f"{case.wall}: DEM {r['dem']['critical_height_m']} m {r['dem']['mode']} "
+            f"({seconds:.1f} s wall, {cpu:.1f} s CPU)")
+    le = r["limit_equilibrium"]["yield-design"]
+    plot_drystone_history(res.water_height_m, res.crest_displacement_m, fig_dir / f"{case.wall}_history.png",
+                          title=f"{case.wall}: water height vs crest displacement\n(rigid-block kinematics: pre-failure displacements are numerical)",
+                          measured_m=r["measured"]["height_m"], le_m=le["critical_height_m"],
+                          critical_m=r["dem"]["critical_height_m"], notes=r["assumptions"])
+    m = res.mechanism
+    plot_drystone_mechanism(res.reference_outlines, res.outlines, res.velocities, fig_dir / f"{case.wall}_mechanism.png",
+                            water_height=res.water_height_m[-1],
+                            title=f"{case.wall} at failure: {m.mode} at {m.level_m:.3f} m" if m else case.wall,
+                            level_m=m.level_m if m else None, pivot=m.pivot if m and m.mode == "toppling" else None,
+                            notes=r["assumptions"])
+    r["convergence"] = convergence(case, r) if check else None
+    if log and check:
+        log(f"  convergence: {r['convergence']['critical_height_m']} m {r['convergence']['mode']} "
+            f"({r['convergence']['change_percent']:.2f} %)")
+    r["band"] = band(case, dem_band, log)
+    return r
+
+
+def entry(r: dict) -> dict:
+    """The per-wall record of drystone.json (keys as issue 23 lists them, then the rest)."""
+    d, le = r["dem"], r["limit_equilibrium"]["yield-design"]
+    conv = r["convergence"]
+    return {"critical_height_m": d["critical_height_m"], "mode": d["mode"], "mechanism_level_m": d["mechanism_level_m"],
+            "measured_height_m": r["measured"]["height_m"], "measured_mode": r["measured"]["mode"],
+            "limit_equilibrium_height_m": le["critical_height_m"], "limit_equilibrium_mode": le["mode"],
+            "band_m": r["band"]["band_m"], "wall_time_s": r["wall_time_s"],
+            "cpu_time_s": r["cpu_time_s"], "error_percent": r["error_percent"],
+            "within_10_percent": bool(abs(r["error_percent"]) <= ACCURACY_LIMIT_PERCENT)
+            if math.isfinite(r["error_percent"]) else False,
+            "mode_matches": r["mode_matches"], "paper_dem": r["paper_dem"],
+            "limit_equilibrium_bed_joints": r["limit_equilibrium"]["bed-joints"],
+            "limit_equilibrium_above_fixed_course": r["limit_equilibrium"]["above-fixed-course"],
+            "dem_minus_fixed_course_le_m": (d["critical_height_m"] - r["limit_equilibrium"]["above-fixed-course"]
+                                            ["critical_height_m"]) if d["critical_height_m"] is not None else None,
+            "increment_m": r["section"]["height_m"] * r["increment_fraction"], "section": r["section"],
+            "geometry": r["geometry"], "assumptions": r["assumptions"], "blocks": d["blocks"], "steps": d["steps"],
+            "convergence": conv, "band": r["band"]}
+
+
+def rewrite_report(out_dir: Path) -> Path:
+    """drystone.md (and the derived fields of drystone.json: the back-fit band, the
+    timing) again from drystone.json, after editing drystone_discussion.md."""
+    from .report import back_fit_band, write_report
+    rep = json.loads((out_dir / "drystone.json").read_text())
+    for e in rep["walls"].values():
+        e["band_back_fit_m"] = back_fit_band(e)
+    path = write_report(rep, out_dir)
+    atomic_write(out_dir / "drystone.json", (json.dumps(to_plain(rep), indent=2) + "\n").encode())
+    return path
+
+
+def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], band: str = "dem",
+                      convergence: bool = True, log=None) -> dict:
+    """Every wall in ``walls``; writes drystone.json, drystone.md and drystone/*.png."""
+    from .report import write_report
+
+    t0, c0 = time.perf_counter(), time.process_time()
+    fig_dir = out_dir / "drystone"
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    results = {}
+    for w in walls:
+        results[w] = validate_wall(replace(case, wall=w), fig_dir, dem_band=band == "dem", check=convergence,
+                                   log=log)
+    rep = {"case": "A", "study": "drystone", "walls": {w: entry(r) for w, r in results.items()},
+           "settings": {"geometry": case.geometry, "dt_s": case.dt, "iterations": case.iterations,
+                        "water_direction": case.water_direction, "increment_fraction": case.increment_fraction,
+                        "block_m": [case.block_length_m, case.block_height_m], "collision_slop_m": 1e-4,
+                        "unit_weight_kN_m3": case.unit_weight_kN_m3},
+           "note": RIGID_NOTE, "git": git_revision(), "versions": package_versions(),
+           "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+           "wall_time_s": time.perf_counter() - t0, "cpu_time_s": time.process_time() - c0}
+    from .report import back_fit_band
+    for e in rep["walls"].values():
+        e["band_back_fit_m"] = back_fit_band(e)
+    write_report(rep, out_dir)          # adds rep["timing"]
+    atomic_write(out_dir / "drystone.json", (json.dumps(to_plain(rep), indent=2) + "\n").encode())
+    return rep

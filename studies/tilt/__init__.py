@@ -1,0 +1,121 @@
+"""Tilt calibration of the rigid-block contact (dem2d.blocks, the dry-stone study's
+blocks): a block on an identical fixed block tilted until it slides (the slide angle
+must equal the input friction angle, tan = mu; S-OET Table 2 friction angles are tilt-test
+values), and a slender block tilted until it tips over (atan(width / height)). The
+study record is ``STUDY``."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+from analytic.errors import InvalidParameter
+from analytic.inputs import require_number
+
+from ..options import number, number_list
+from ..study import Command, Option, Study
+
+
+@dataclass(frozen=True)
+class TiltCase:
+    """frictions_deg:   input block-block friction angles to tilt [deg] (S-OET Table 2: 36, 28.5, 35, 25)
+    slender_widths_m:  widths of the slender blocks to topple [m] (height ``slender_height_m``)
+    slender_height_m:  their height [m] (0.30)
+    block_length_m, block_height_m: the sliding block [m] (S-OET: 0.30 x 0.125)
+    dt:                time step [s] (5e-4, as the walls)
+    iterations:        contact-solver sweeps per step (20, as the walls)
+    resolution_deg:    tilt step near the answer [deg] (0.05)
+    """
+
+    frictions_deg: tuple = (36.0, 28.5, 35.0, 25.0)
+    slender_widths_m: tuple = (0.10, 0.125)
+    slender_height_m: float = 0.30
+    block_length_m: float = 0.30
+    block_height_m: float = 0.125
+    dt: float = 5e-4
+    iterations: int = 20
+    resolution_deg: float = 0.05
+
+    def __post_init__(self):
+        for f in self.frictions_deg:
+            require_number("friction", f, 0.0, 80.0, unit="deg")
+        for w in self.slender_widths_m:
+            require_number("slender_width", w, 0.0, self.slender_height_m, unit="m")
+        require_number("slender_height", self.slender_height_m, 0.0, 5.0, unit="m")
+        require_number("block_length", self.block_length_m, 0.0, 5.0, unit="m")
+        require_number("block_height", self.block_height_m, 0.0, 5.0, unit="m")
+        require_number("dt", self.dt, 0.0, 2e-3, unit="s")
+        if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
+            raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
+        require_number("resolution", self.resolution_deg, 0.0, 1.0, unit="deg")
+
+
+def tilt_tests(case: TiltCase) -> dict:
+    """Every slide and topple test of ``case`` (no files)."""
+    from dem2d.blocks import BlockSolver, tilt_slide_angle, topple_angle
+
+    solver = BlockSolver(dt=case.dt, iterations=case.iterations)
+    slides = [{"friction_deg": f, "slide_angle_deg": tilt_slide_angle(f, block=(case.block_length_m,
+                                                                              case.block_height_m),
+                                                                     solver=solver, resolution_deg=case.resolution_deg)}
+              for f in case.frictions_deg]
+    topples = []
+    for w in case.slender_widths_m:
+        expected = math.degrees(math.atan(w / case.slender_height_m))
+        got = topple_angle(w, case.slender_height_m, friction_deg=min(expected + 30, 80), solver=solver,
+                           resolution_deg=case.resolution_deg)
+        topples.append({"width_m": w, "height_m": case.slender_height_m, "expected_deg": expected,
+                        "topple_angle_deg": got})
+    for s in slides:
+        s["error_deg"] = s["slide_angle_deg"] - s["friction_deg"]
+    for t in topples:
+        t["error_deg"] = t["topple_angle_deg"] - t["expected_deg"]
+    return {"slides": slides, "topples": topples}
+
+
+def _calibrate(case: TiltCase, opts: SimpleNamespace) -> tuple[dict, str]:
+    from ..runner import finish, open_run_folder
+
+    t0, c0 = time.perf_counter(), time.process_time()
+    folder = open_run_folder("tilt", case, opts.out, seed=None)
+    r = tilt_tests(case)
+    folder.write_csv("slides.csv", ["friction_deg", "slide_angle_deg", "error_deg"],
+                     [[s["friction_deg"], s["slide_angle_deg"], s["error_deg"]] for s in r["slides"]])
+    folder.write_csv("topples.csv", ["width_m", "height_m", "expected_deg", "topple_angle_deg", "error_deg"],
+                     [[t["width_m"], t["height_m"], t["expected_deg"], t["topple_angle_deg"], t["error_deg"]]
+                      for t in r["topples"]])
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
+    result = {"case": "tilt", **r, "dt_s": case.dt, "iterations": case.iterations,
+              "resolution_deg": case.resolution_deg, "collision_slop_m": 1e-4,
+              "wall_time_s": seconds, "cpu_time_s": cpu, "run_folder": str(folder.path)}
+    finish(folder, result, particles=2, dt_s=case.dt, iterations=case.iterations, wall_time_s=seconds,
+           cpu_time_s=cpu)
+    return result, f"run folder: {folder.path}"
+
+
+def _text(r: dict) -> str:
+    lines = ["block on block (tilt test): input friction -> slide angle"]
+    lines += [f"  {s['friction_deg']:6.2f} deg -> {s['slide_angle_deg']:6.2f} deg ({s['error_deg']:+.2f})"
+              for s in r["slides"]]
+    lines.append("slender block: atan(width / height) -> topple angle")
+    lines += [f"  {t['width_m']:.3f} x {t['height_m']:.3f} m: {t['expected_deg']:6.2f} deg -> "
+              f"{t['topple_angle_deg']:6.2f} deg ({t['error_deg']:+.2f})" for t in r["topples"]]
+    lines.append(f"resolution {r['resolution_deg']:g} deg (the angle reported is the first step at which it moved); "
+                 f"dt {r['dt_s']:g} s, {r['iterations']} sweeps")
+    return "\n".join(lines)
+
+
+CALIBRATE = Command(
+    verb="calibrate", help="tilt tests of the rigid blocks: slide angle vs input friction, toppling angle",
+    description="A 0.30 x 0.125 m block on an identical fixed block, tilted (gravity turned) until it slides; "
+                "slender blocks tilted until they tip over at atan(b/h). Checks the pair friction set per contact "
+                "(pymunk multiplies shape frictions). Example: wallsim calibrate tilt --friction 36,28.5",
+    default_case=TiltCase, run=_calibrate, text=_text, seed_key=None,
+    options=(Option("--friction", "friction angles to test [deg] (36,28.5,35,25)", key="frictions_deg",
+                    parse=number_list("friction")),
+             Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 0, 2e-3, unit="s"))))
+
+STUDY = Study(name="tilt", title="Tilt tests of the rigid dry-stone blocks (slide and toppling angles)",
+              commands=(CALIBRATE,))

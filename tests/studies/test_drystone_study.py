@@ -1,0 +1,66 @@
+"""The dry-stone study end to end on a small wall, and its user errors.
+
+Sources: the limit equilibrium of the part above the fixed first course
+(analytic.drystone, reference 5.4, sliding H = W tan(phi_b)) for the DEM's critical
+height; ../shared/reference/drystone-walls.md 2.1 (S-OET Table 3) for the measured
+values the result must carry; tests/cli/test_user_errors.py for the error contract.
+"""
+
+import json
+
+import pytest
+
+import cli
+from studies import get
+
+SMALL = {"height_m": 1.0, "base_width_m": 0.4, "increment_fraction": 0.02}
+
+
+def test_compare_drystone_writes_its_outputs(tmp_path):
+    study = get("drystone")
+    case = study.case(**SMALL)
+    r = study.run(case, out=str(tmp_path), quiet=True)
+    folder = tmp_path / "drystone"
+    run = next(folder.iterdir())
+    for name in ("history.csv", "history.png", "mechanism.png", "comparison.csv", "result.json", "manifest.json",
+                 "config.toml", "recording.rrd"):
+        assert (run / name).is_file(), name
+    # S-OET Table 3 / reference 2.1: V1L failed at 1.74 m by sliding
+    assert r["measured"] == {"height_m": 1.74, "mode": "sliding"}
+    fx = r["limit_equilibrium"]["above-fixed-course"]
+    # the DEM fails at the first 2 % increment at or above the rigid-block limit equilibrium
+    assert fx["critical_height_m"] - 1e-3 <= r["dem"]["critical_height_m"] <= fx["critical_height_m"] + 0.021
+    assert r["dem"]["mode"] == fx["mode"] == "sliding"
+    assert any("ASSUMED" in a for a in r["assumptions"]) and any("wall height 1 m" in a for a in r["assumptions"])
+    assert "numerical, not physical" in r["note"]
+    saved = json.loads((run / "result.json").read_text())
+    assert saved["dem"]["critical_height_m"] == r["dem"]["critical_height_m"]
+    from viz.readback import entity_paths
+    assert {"/world/blocks", "/world/water", "/world/joint_forces", "/case"} <= entity_paths(run / "recording.rrd")
+    header = (run / "history.csv").read_text().splitlines()[0]
+    assert header == "water_height_m,crest_displacement_m,settled,time_s"
+
+
+BAD = [
+    ["compare", "drystone", "--wall", "V9X"],
+    ["compare", "drystone", "--gamma-m", "-3"],
+    ["compare", "drystone", "--set", "base_width_m=0.2"],      # crest width < 0 with a 15 deg batter
+    ["compare", "drystone", "--set", "dt=1"],
+    ["compare", "drystone", "--set", "wall=V6L"],
+    ["compare", "drystone", "--geometry", "guess"],
+    ["validate", "drystone", "--walls", "V1L,V7"],
+    ["validate", "drystone", "--case", "B"],
+    ["calibrate", "tilt", "--friction", "95"],
+    ["calibrate", "tilt", "--friction", "abc"],
+]
+
+
+@pytest.mark.parametrize("argv", BAD, ids=[" ".join(a) for a in BAD])
+def test_bad_input_is_one_line_and_exit_2(argv, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as stop:
+        raise SystemExit(cli.main(argv))
+    err = capsys.readouterr().err
+    assert stop.value.code == 2
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []          # nothing written
