@@ -70,7 +70,8 @@ class SeismicCase:
     segment_mass_grains:  mass of one free-field segment, in mean grain masses (0.1 [A])
     free_field_every:     steps between refreshes of the free-field state (20)
     dt_fraction:          time step / critical step (0.2, dem3d's limit)
-    settle_ratio:         unbalanced-force ratio ending each static stage (2e-3)
+    settle_ratio:         unbalanced-force ratio ending each static stage (1e-2: rattlers keep bouncing at N g)
+    static_time:          longest static stage (wall installed, front excavated), model [s] (0.05)
     record_every:         steps between recorded samples of the dynamic stage, prototype [s] (0.02)
     seed:                 random seed of the deposit
     """
@@ -109,7 +110,8 @@ class SeismicCase:
     segment_mass_grains: float = 0.1
     free_field_every: int = 20
     dt_fraction: float = 0.2
-    settle_ratio: float = 2e-3
+    settle_ratio: float = 1e-2
+    static_time: float = 0.05
     record_every: float = 0.02
     seed: int = 1
 
@@ -143,6 +145,7 @@ class SeismicCase:
         require_number("free_field_every", self.free_field_every, 1, 1000, lo_open=False, hi_open=False)
         require_number("dt_fraction", self.dt_fraction, 0.0, 0.2, hi_open=False)
         require_number("settle_ratio", self.settle_ratio, 0.0, 0.1)
+        require_number("static_time", self.static_time, 0.0, 1.0, unit="s (model)")
         require_number("record_every", self.record_every, 0.0, 1.0, unit="s (prototype)")
         s = self.scale
         if self.width < 3.0 * (s * self.d_max + 0.4 * s * self.d_min):

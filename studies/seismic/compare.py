@@ -5,6 +5,7 @@ force per width x N, moment per width x N^2), tables, figures and the recording.
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -85,17 +86,19 @@ def _positions(arrays: dict) -> np.ndarray:
 
 
 def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log=lambda s: None,
-                    record: bool = False, rrd=None) -> tuple[dict, Path]:
-    """One frequency: prepare (cached under root/seismic/cache) and shake; writes the run folder."""
+                    record: bool = False, rrd=None, progress=None) -> tuple[dict, Path]:
+    """One frequency: prepare (cached under root/seismic/cache) and shake; writes the run
+    folder (and recording.rrd with ``record``)."""
     clock = Stopwatch()
     folder = open_run_folder("seismic", case, root)
+    path = (Path(rrd) if isinstance(rrd, str) else folder.path / "recording.rrd") if record else None
     with clock("prepare"):
         prepared = prepare(case, Path(root) / "seismic" / "cache", log=log)
-    x0 = np.array(prepared.info["install_x_wall"])
+    x0 = np.array(prepared.info["x_wall_before_excavation"])
     rows = prepared.model.wall_row
     x0_rows = np.bincount(rows, weights=x0[:, 0]) / np.bincount(rows)
-    with clock("shake"):
-        shaken = shake(case, prepared, fraction=fraction)
+    with clock("shake"), _recording(case, path, folder, x0_rows, progress) as on_sample:
+        shaken = shake(case, prepared, fraction=fraction, on_sample=on_sample)
     porosity = float(prepared.info["porosity"])
     result = _result(case, prepared, shaken, x0_rows, porosity, fraction)
     series = series_table(case, x0_rows, shaken)
@@ -105,6 +108,37 @@ def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log
     finish(folder, result, particles=result["particles"], seed=case.seed, dt_s=result["dt_s"],
            steps=shaken.steps, wall_time_s=clock.total)
     return result, folder.path
+
+
+@contextmanager
+def _recording(case: SeismicCase, path, folder, x0_rows, progress):
+    """A sample callback: the recording (prototype seconds on the sim_time timeline:
+    thrusts, wall top displacement, largest moment every sample; the grains and wall
+    every 10th) and the progress bar."""
+    from dem3d import frame as take_frame
+
+    from ..runner import open_recording
+    rec = open_recording(path, study="seismic", recording_id=folder.path.name, dim=3)
+    n = case.scale_N
+    count = [0]
+
+    def on_sample(sim, reading, t_model, done, total):
+        t = t_model * n
+        metrics = {"thrust_back_kN_per_m": reading.thrust_back * n / 1e3,
+                   "thrust_front_kN_per_m": reading.thrust_front * n / 1e3,
+                   "wall_top_displacement_m": float(-(reading.x[-1] - x0_rows[-1]) * n),
+                   "max_moment_kN_m_per_m": float(np.max(np.abs(reading.moment))) * n * n / 1e3}
+        if count[0] % 10 == 0:
+            rec.log_frame(take_frame(sim)._replace(time=t), metrics=metrics)
+        else:
+            rec.log_metrics(sim.step_count, t, metrics)
+        count[0] += 1
+        if progress is not None:
+            progress(done, total)
+    try:
+        yield on_sample
+    finally:
+        rec.close()
 
 
 def _result(case, prepared, shaken, x0_rows, porosity, fraction) -> dict:
@@ -118,7 +152,7 @@ def _result(case, prepared, shaken, x0_rows, porosity, fraction) -> dict:
             "wall_balls": int(len(prepared.model.wall)), "porosity": porosity, "dt_s": float(info["dt_s"]),
             "steps": shaken.steps, "fraction_of_motion": fraction, "shake_seconds": shaken.seconds,
             "steps_per_s": shaken.steps / shaken.seconds if shaken.seconds > 0 else math.nan,
-            "prepare": {k: v for k, v in info.items() if k != "install_x_wall"},
+            "prepare": {k: v for k, v in info.items() if k != "x_wall_before_excavation"},
             "prototype": dynamic_summary(case, x0_rows, shaken, porosity),
             "mononobe_okabe": {k: {"thrust_kN_per_m": p.thrust / 1e3, "K": p.K} for k, p in mo.items()},
             "units": "prototype (model x " + ", ".join(f"{k} {v:g}" for k, v in

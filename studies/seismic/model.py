@@ -98,10 +98,7 @@ def rain_deposit(case: SeismicCase, rng: np.random.Generator, lo, hi, height: fl
     hi = np.array([hi[0], hi[1], height])
     volume = float(np.prod(hi - lo))
     n = int(round(1.04 * (1.0 - case.porosity) * volume / mean_grain_volume(case)))   # 4 % trimmed off the top
-    gen_hi = hi.copy()
-    gen_hi[2] = height * 1.04 * (1.0 - case.porosity) / _GENERATION_SOLIDS
-    d_min, d_max = case.grains
-    spec = random_specimen(rng, lo, gen_hi, n, d_min, d_max, density=case.grain_density)
+    spec, gen_hi = _generate(case, rng, lo, hi, n, height)
     ax = periodic_axis
     side = 1 - ax                     # the walled horizontal axis
     walls = [Wall("base", plane((0, 0, 0), (0, 0, 1), mu=case.boundary_friction)),
@@ -112,11 +109,11 @@ def rain_deposit(case: SeismicCase, rng: np.random.Generator, lo, hi, height: fl
     g = (0.0, 0.0, -case.gravity)
     sim = Simulation(spec, soft, dt=time_step(case, soft, bonds=False), walls=walls, periodic=period, gravity=g)
     fall = math.sqrt(2.0 * gen_hi[2] / case.gravity) / sim.dt        # steps of a free fall from the top
-    res1 = settle(sim, ratio=case.settle_ratio, max_steps=int(4 * fall), min_steps=int(fall), check_every=500)
+    res1 = settle(sim, ratio=case.settle_ratio, max_steps=int(2.5 * fall), min_steps=int(fall), check_every=500)
     firm = contact_law(case, local_damping=0.7)
     sim.dt = time_step(case, firm, bonds=False)
     sim.set_params(firm)
-    res2 = settle(sim, ratio=case.settle_ratio, max_steps=int(10 * fall), min_steps=500, check_every=500)
+    res2 = settle(sim, ratio=case.settle_ratio, max_steps=int(3 * fall), min_steps=500, check_every=500)
     x = sim.spheres.x[np.argsort(sim.original_index)]
     r = sim.spheres.r[np.argsort(sim.original_index)]
     keep = x[:, 2] <= height
@@ -125,6 +122,21 @@ def rain_deposit(case: SeismicCase, rng: np.random.Generator, lo, hi, height: fl
     box_hi[2] = height - case.d_mean           # a layer clear of the trimmed surface
     n_box = _porosity(x, r, box_lo, box_hi, ax, float(hi[ax] - lo[ax]))
     return Deposit(x, r, tuple(lo), tuple(hi), n_box, res1.steps + res2.steps, (res1, res2))
+
+
+def _generate(case: SeismicCase, rng, lo, hi, n: int, height: float):
+    """n grains placed at random in a box of the deposit's plan over a height that puts
+    them at ``_GENERATION_SOLIDS`` (a looser box when a narrow one jams)."""
+    from analytic.errors import InvalidParameter
+    for solids in (_GENERATION_SOLIDS, 0.75 * _GENERATION_SOLIDS, 0.5 * _GENERATION_SOLIDS):
+        gen_hi = hi.copy()
+        gen_hi[2] = height * 1.04 * (1.0 - case.porosity) / solids
+        try:
+            return random_specimen(rng, lo, gen_hi, n, *case.grains, density=case.grain_density), gen_hi
+        except InvalidParameter:
+            if solids == 0.5 * _GENERATION_SOLIDS:
+                raise
+    raise AssertionError("unreachable")
 
 
 def _porosity(x, r, lo, hi, axis, length) -> float:
@@ -166,22 +178,33 @@ def wall_balls(case: SeismicCase) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def install_wall(case: SeismicCase, deposit: Deposit) -> Model:
-    """Stage 2: remove the grains overlapping the wall, put the wall balls in, excavate
-    the front above the dredge line (grain centres above ``front_height``)."""
+    """Stage 2a: remove the grains overlapping the wall and put the wall balls in (the
+    soil still level on both sides)."""
     x, r = deposit.positions, deposit.radii
     d = case.wall_ball
     t = 2.0 * d
     top = case.toe + int(round(case.wall_length / d)) * d
     in_wall = (x[:, 0] + r > 0.0) & (x[:, 0] - r < t) & (x[:, 2] + r > case.toe) & (x[:, 2] - r < top)
-    excavated = (x[:, 0] < 0.0) & (x[:, 2] > case.front_height)
-    keep = ~(in_wall | excavated)
-    x, r = x[keep], r[keep]
+    x, r = x[~in_wall], r[~in_wall]
     wx, row, sheet = wall_balls(case)
     positions = np.concatenate([x, wx])
     radii = np.concatenate([r, np.full(len(wx), 0.5 * d)])
     wall = np.arange(len(x), len(positions))
     base_layer = np.nonzero(x[:, 2] - r < 0.1 * case.d_mean)[0]
     return Model(positions, radii, wall, row, sheet, base_layer)
+
+
+def excavate(case: SeismicCase, model: Model, positions: np.ndarray) -> Model:
+    """Stage 2b: the model at ``positions`` (specimen order) without the grains in front
+    of the wall whose centres lie above the dredge line (``front_height``)."""
+    n = len(model.radii)
+    soil = np.ones(n, bool)
+    soil[model.wall] = False
+    gone = soil & (positions[:, 0] < 0.0) & (positions[:, 2] > case.front_height)
+    keep = ~gone
+    new_index = np.cumsum(keep) - 1
+    return Model(positions[keep], model.radii[keep], new_index[model.wall], model.wall_row, model.wall_sheet,
+                 new_index[model.base_layer[keep[model.base_layer]]])
 
 
 def lateral_edges(case: SeismicCase, height: float) -> np.ndarray:
