@@ -508,9 +508,11 @@ def plot_seismic(N: float, readings, series: dict, profiles: dict, mo: dict, pat
     r0, r1 = readings[0], readings[-1]
     z = r0.z * N
     x_ref = r0.x
-    for r, label, c in ((r0, "static (start of shaking)", "C0"), (r1, "residual", "C3")):
-        ax[0, 0].plot(-(r.x - x_ref) * N * 1e3, z, "o-", ms=3, color=c, label=label)
-    ax[0, 0].set_xlabel("wall displacement since the static state, toward the excavation [mm]")
+    base = np.asarray(series["base_displacement_m"])
+    for r, b, label, c in ((r0, base[0], "static (start of shaking)", "C0"), (r1, base[-1], "residual", "C3")):
+        ax[0, 0].plot((-(r.x - x_ref) * N + b) * 1e3, z, "o-", ms=3, color=c, label=label)
+    ax[0, 0].set_xlabel("wall displacement since the static state, relative to the base,\n"
+                        "toward the excavation [mm]")
     ax[0, 0].set_ylabel("height above the base [m]")
     ax[0, 0].set_title("deformed shape (Fig. 2)")
     p = profiles
@@ -544,7 +546,8 @@ def plot_seismic(N: float, readings, series: dict, profiles: dict, mo: dict, pat
     ax[1, 0].set_title("bending moment (Fig. 6)")
     ax[1, 0].legend(fontsize=8)
     ax[1, 1].plot(t, series["base_displacement_m"] * 1e3, color="k", label="base")
-    ax[1, 1].plot(t, series["top_displacement_m"] * 1e3, color="C3", label="wall top (toward excavation)")
+    ax[1, 1].plot(t, series["top_displacement_m"] * 1e3, color="C3",
+                  label="wall top relative to the base (toward excavation)")
     ax[1, 1].set_xlabel("time [s]")
     ax[1, 1].set_ylabel("displacement [mm]")
     ax[1, 1].legend(fontsize=8)

@@ -16,11 +16,12 @@ from .measures import mononobe_okabe_overlay, rotation_fit, settlement, unit_wei
 from .run import Prepared, Shaken, prepare, shake
 
 
-def wall_summary(case: SeismicCase, x0: np.ndarray, reading) -> dict:
-    """Displacement (toward the excavation), rotation, pivot, thrusts and the largest
-    moment of one reading against the installed wall rows ``x0`` (prototype units)."""
+def wall_summary(case: SeismicCase, x0: np.ndarray, reading, base: float = 0.0) -> dict:
+    """Displacement relative to the base (toward the excavation), rotation, pivot,
+    thrusts and the largest moment of one reading against the wall rows ``x0`` before
+    excavation, the base displaced by ``base`` along x [m] (prototype units)."""
     n = case.scale_N
-    u = -(reading.x - x0)
+    u = -(reading.x - x0 - base)
     rot, pivot, top = rotation_fit(reading.z, u, case)
     return {"top_displacement_m": float(u[-1] * n), "fit_top_displacement_m": top * n, "rotation_deg": rot,
             "pivot_height_over_wall_length": pivot, "thrust_front_kN_per_m": reading.thrust_front * n / 1e3,
@@ -42,7 +43,7 @@ def dynamic_summary(case: SeismicCase, x0, shaken: Shaken, porosity: float) -> d
     static, final = shaken.readings[0], shaken.readings[-1]
     m_static = float(np.max(np.abs(static.moment)))
     m_max = max(float(np.max(np.abs(r.moment))) for r in shaken.readings)
-    return {"static": wall_summary(case, x0, static), "residual": wall_summary(case, x0, final),
+    return {"static": wall_summary(case, x0, static), "residual": wall_summary(case, x0, final, shaken.base[-1]),
             "max_moment_over_static": m_max / m_static if m_static > 0 else math.nan,
             "residual_moment_over_static": float(np.max(np.abs(final.moment))) / m_static if m_static > 0 else math.nan,
             "passive_K_static_at_1_5m": passive_K(case, static, porosity),
@@ -50,10 +51,11 @@ def dynamic_summary(case: SeismicCase, x0, shaken: Shaken, porosity: float) -> d
 
 
 def series_table(case: SeismicCase, x0, shaken: Shaken) -> dict[str, np.ndarray]:
-    """Time series in prototype units: time, base displacement, top displacement, thrusts."""
+    """Time series in prototype units: time, base displacement, wall top displacement
+    relative to the base (toward the excavation), thrusts, largest moment."""
     n = case.scale_N
     return {"time_s": shaken.time * n, "base_displacement_m": shaken.base * n,
-            "top_displacement_m": np.array([-(r.x[-1] - x0[-1]) * n for r in shaken.readings]),
+            "top_displacement_m": np.array([-(r.x[-1] - x0[-1] - b) * n for r, b in zip(shaken.readings, shaken.base)]),
             "thrust_front_kN_per_m": np.array([r.thrust_front * n / 1e3 for r in shaken.readings]),
             "thrust_back_kN_per_m": np.array([r.thrust_back * n / 1e3 for r in shaken.readings]),
             "max_moment_kN_m_per_m": np.array([np.max(np.abs(r.moment)) * n * n / 1e3 for r in shaken.readings])}
@@ -122,11 +124,11 @@ def _recording(case: SeismicCase, path, folder, x0_rows, progress):
     n = case.scale_N
     count = [0]
 
-    def on_sample(sim, reading, t_model, done, total):
+    def on_sample(sim, reading, t_model, base, done, total):
         t = t_model * n
         metrics = {"thrust_back_kN_per_m": reading.thrust_back * n / 1e3,
                    "thrust_front_kN_per_m": reading.thrust_front * n / 1e3,
-                   "wall_top_displacement_m": float(-(reading.x[-1] - x0_rows[-1]) * n),
+                   "wall_top_displacement_m": float(-(reading.x[-1] - x0_rows[-1] - base) * n),
                    "max_moment_kN_m_per_m": float(np.max(np.abs(reading.moment))) * n * n / 1e3}
         if count[0] % 10 == 0:
             rec.log_frame(take_frame(sim)._replace(time=t), metrics=metrics)

@@ -96,9 +96,10 @@ def wall_reading(sim, case: SeismicCase, model) -> WallReading:
     sig_b = -np.bincount(model.wall_row[~front], weights=f[~front, 0], minlength=rows) / area
     cuts = case.toe + d * np.arange(1, rows)
     sec = section_forces(sim, cuts, axis=2, spheres=model.wall)
-    # moment of the part above the cut on the part below about y; the retained soil pushes
-    # -x above, so the static cantilever's moment is positive with this sign
-    moment = -sec.moment[:, 1] / case.width
+    # section_forces: the moment of the part below the cut ON the part above; the retained
+    # soil pushes the part above toward -x at a lever +z, a moment -h F about y, which the
+    # section balances with +h F: the static cantilever's moment is positive about +y
+    moment = sec.moment[:, 1] / case.width
     return WallReading(z, xm, sig_f, sig_b, float(sig_f.sum() * d), float(sig_b.sum() * d), cuts, moment)
 
 

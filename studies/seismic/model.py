@@ -255,6 +255,7 @@ def base_motion(case: SeismicCase, t0: float):
                           case.decay_s / m)
     if t0 <= 0.0:
         return dem3d.shaking(tab), tab
-    shifted = dem3d.AccelerationTable(np.concatenate([[0.0], tab.times + t0]),
-                                      np.concatenate([[[0.0, 0.0, 0.0]], tab.accel]))
+    # at rest until t0 (the baseline correction's constant starts with the motion)
+    shifted = dem3d.AccelerationTable(np.concatenate([[0.0, t0 * (1.0 - 1e-9)], tab.times + t0]),
+                                      np.concatenate([np.zeros((2, 3)), tab.accel]))
     return dem3d.shaking(shifted), shifted

@@ -211,6 +211,6 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
         base.append(table.displacement(main.time)[0])
         readings.append(wall_reading(main, case, prepared.model))
         if on_sample is not None:
-            on_sample(main, readings[-1], times[-1], done, total)
+            on_sample(main, readings[-1], times[-1], base[-1], done, total)
     return Shaken(np.array(times), np.array(base), readings, main.to_arrays(), done,
                   time.perf_counter() - wall_clock)
