@@ -72,7 +72,7 @@ class SeismicCase:
     dt_fraction:          time step / critical step (0.2, dem3d's limit)
     settle_ratio:         unbalanced-force ratio ending each static stage (1e-2: rattlers keep bouncing at N g)
     static_time:          longest static stage (wall installed, front excavated), model [s] (0.05)
-    record_every:         steps between recorded samples of the dynamic stage, prototype [s] (0.02)
+    record_every:         time between readings of the dynamic stage, prototype [s] (0.02)
     seed:                 random seed of the deposit
     """
 

@@ -112,3 +112,15 @@ def test_a_seed_reproduces_the_run(tiny):
     b = shake(case, again, fraction=0.2)
     assert np.array_equal(a.final["spheres.x"], b.final["spheres.x"])
     assert [r.thrust_front for r in a.readings] == [r.thrust_front for r in b.readings]
+
+
+def test_mononobe_okabe_overlay_is_the_references_table():
+    """phi 31 deg, delta 0, kh 0.1, kv 0: K_A 0.320, K_AE 0.382, K_P 3.12, K_PE 2.94
+    (../shared/reference/seismic-sheetpile.md section 8, in reference.json)."""
+    from studies import get
+    from studies.seismic.measures import mononobe_okabe_overlay
+    ref = get("seismic").reference()["mononobe_okabe"]["delta_0"]
+    mo = mononobe_okabe_overlay(SeismicCase(), 0.40)
+    for key, name in (("active_static", "K_A"), ("active_MO", "K_AE"), ("passive_static", "K_P"),
+                      ("passive_MO", "K_PE")):
+        assert mo[key].K == pytest.approx(ref[name], abs=0.005 * max(1.0, ref[name]))
