@@ -212,6 +212,25 @@ class Simulation:
         self.params = params
         self.dt_critical = crit
 
+    def set_density(self, spheres, density: float) -> None:
+        """Give free spheres (specimen indices) their own density [kg/m^3]: mass
+        rho 4/3 pi r^3 and moment of inertia 2/5 m r^2 (e.g. the balls of a bonded
+        structure heavier than the grains). Locked translations or rotations stay locked.
+        The time-step checks still use the specimen's density: a denser ball is safer,
+        a lighter one needs the caller's own margin."""
+        density = float(density)
+        if not (density > 0 and math.isfinite(density)):
+            raise InvalidParameter("density", density, "> 0 kg/m^3")
+        engine = np.empty(self.n_spheres, np.int64)
+        engine[self.original_index] = np.arange(self.n_spheres)
+        rows = engine[np.asarray(spheres, np.int64).reshape(-1)]
+        sph = self.spheres
+        if np.any(sph.clump[rows] >= 0):
+            raise InvalidParameter("spheres", "clump members", "free spheres")
+        m = density * 4.0 / 3.0 * math.pi * sph.r[rows] ** 3
+        sph.inv_m[rows] = np.where(sph.inv_m[rows] > 0, 1.0 / m, 0.0)
+        sph.inv_i[rows] = np.where(sph.inv_i[rows] > 0, 1.0 / (0.4 * m * sph.r[rows] ** 2), 0.0)
+
     def lock(self, spheres=None, *, translation: bool = False, rotation: bool = True) -> None:
         """Lock the translation and/or rotation of free spheres (indices, default all)
         and of the clumps they belong to."""

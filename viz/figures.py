@@ -584,4 +584,71 @@ def plot_drystone_summary(rows: list[dict], path, *, title: str) -> Path:
     ax.set_ylabel("critical water height [m]")
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8)
+
+
+def plot_seismic(N: float, readings, series: dict, profiles: dict, mo: dict, path, *,
+                 settlement: dict | None = None, title: str = "") -> Path:
+    """Sizkow & El Shamy's figures in one sheet, prototype units (model x N): the wall's
+    deformed shape (Fig. 2), face pressures static / max / residual with Mononobe-Okabe
+    active and passive (Fig. 3), thrust on both faces against time (Fig. 5), bending
+    moment static / max / residual (Fig. 6) and the ground settlement (Fig. 8).
+    ``readings``: measures.WallReading list (model units), the first static, the last
+    residual; ``mo``: measures.mononobe_okabe_overlay."""
+    fig, ax = plt.subplots(2, 3, figsize=(14, 8.5))
+    r0, r1 = readings[0], readings[-1]
+    z = r0.z * N
+    x_ref = r0.x
+    base = np.asarray(series["base_displacement_m"])
+    for r, b, label, c in ((r0, base[0], "static (start of shaking)", "C0"), (r1, base[-1], "residual", "C3")):
+        ax[0, 0].plot((-(r.x - x_ref) * N + b) * 1e3, z, "o-", ms=3, color=c, label=label)
+    ax[0, 0].set_xlabel("wall displacement since the static state, relative to the base,\n"
+                        "toward the excavation [mm]")
+    ax[0, 0].set_ylabel("height above the base [m]")
+    ax[0, 0].set_title("deformed shape (Fig. 2)")
+    p = profiles
+    for face, sign in (("front", -1), ("back", 1)):
+        for kind, ls in (("static", "-"), ("max", "--"), ("residual", ":")):
+            ax[0, 1].plot(sign * p[f"{face}_{kind}_kPa"], p["height_m"], ls, color="C0" if face == "back" else "C1",
+                          label=f"{face} {kind}")
+    top = float(z[-1] + 0.5 * (z[1] - z[0]))
+    for key, sign, c in (("active_static", 1, "k"), ("active_MO", 1, "C3"), ("passive_static", -1, "0.5"),
+                         ("passive_MO", -1, "C4")):
+        prof = mo[key]
+        ztop = top if sign > 0 else top - (mo["active_static"].H - prof.H)
+        ax[0, 1].plot(sign * prof.sigma_h / 1e3, ztop - prof.z, "-", lw=0.8, color=c, label=f"{key} (theory)")
+    ax[0, 1].set_xlabel("pressure on the face [kPa]: back (retained) +, front (excavated) -")
+    ax[0, 1].set_title("lateral pressure (Fig. 3)")
+    ax[0, 1].legend(fontsize=6)
+    t = series["time_s"]
+    ax[0, 2].plot(t, series["thrust_back_kN_per_m"], color="C0", label="back (active side)")
+    ax[0, 2].plot(t, series["thrust_front_kN_per_m"], color="C1", label="front (passive side)")
+    ax[0, 2].set_xlabel("time [s]")
+    ax[0, 2].set_ylabel("thrust [kN/m]")
+    ax[0, 2].set_title("total thrust on both faces (Fig. 5)")
+    ax[0, 2].legend(fontsize=8)
+    zc = r0.cut_z * N
+    m_all = np.array([r.moment for r in readings]) * N * N / 1e3
+    ax[1, 0].plot(m_all[0], zc, "-", label="static")
+    ax[1, 0].plot(m_all[np.argmax(np.abs(m_all).max(axis=1))], zc, "--", label="at the largest moment")
+    ax[1, 0].plot(m_all[-1], zc, ":", label="residual")
+    ax[1, 0].set_xlabel("bending moment [kN m/m]")
+    ax[1, 0].set_ylabel("height above the base [m]")
+    ax[1, 0].set_title("bending moment (Fig. 6)")
+    ax[1, 0].legend(fontsize=8)
+    ax[1, 1].plot(t, series["base_displacement_m"] * 1e3, color="k", label="base")
+    ax[1, 1].plot(t, series["top_displacement_m"] * 1e3, color="C3",
+                  label="wall top relative to the base (toward excavation)")
+    ax[1, 1].set_xlabel("time [s]")
+    ax[1, 1].set_ylabel("displacement [mm]")
+    ax[1, 1].legend(fontsize=8)
+    if settlement is not None:
+        ax[1, 2].plot(settlement["distance_m"], np.asarray(settlement["settlement_m"]) * 1e3, "o-", ms=3)
+    ax[1, 2].set_xlabel("distance from the wall [m]")
+    ax[1, 2].set_ylabel("settlement [mm]")
+    ax[1, 2].set_title("ground settlement (Fig. 8)")
+    for a in ax.ravel():
+        a.grid(alpha=0.3)
+    ax[0, 0].legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
     return _finish(fig, path)

@@ -151,3 +151,19 @@ def test_spheres_attached_to_a_shaken_base_follow_it_exactly():
         d = np.array(tab.displacement(sim.time))
         np.testing.assert_allclose(sim.spheres.x[:2], x0 + d, rtol=0, atol=1e-15)
     assert abs(sim.spheres.x[2, 0] - R - tab.displacement(sim.time)[0]) < 1e-5
+
+
+def test_set_density_gives_the_balls_their_own_mass():
+    """Two equal free spheres, one given density 4000 instead of 2650 (set_density): the
+    same external force F accelerates them at F / m with m = rho 4/3 pi r^3 each; a
+    locked sphere stays locked."""
+    spec = single_specimen([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]], R, RHO)
+    sim = Simulation(spec, linear(1e5, 4e4, 0.5), dt=5e-5, gravity=(0, 0, 0), sort_by_cell=False)
+    sim.lock([2], translation=True, rotation=True)
+    sim.set_density([1, 2], 4000.0)
+    f = np.array([[1e-3, 0.0, 0.0]] * 3)
+    sim.set_external_force(f)
+    sim.step(1)
+    assert sim.spheres.v[0, 0] == pytest.approx(1e-3 / sphere_mass(R, RHO) * sim.dt, rel=1e-12)
+    assert sim.spheres.v[1, 0] == pytest.approx(1e-3 / sphere_mass(R, 4000.0) * sim.dt, rel=1e-12)
+    assert sim.spheres.v[2, 0] == 0.0

@@ -1,0 +1,87 @@
+"""Sizkow & El Shamy: a cantilever sheet pile of bonded balls retaining 9 m of dry sand
+over 6 m (prototype), a 50 g centrifuge model in 3D DEM with free-field lateral
+boundaries, its base shaken by 0.1 g sinusoids of 1-6 Hz (prototype).
+
+Modules: ``case`` (the record in model units, resolution presets, centrifuge scaling),
+``model`` (deposit, wall, excavation, boundaries, base motion), ``run`` (static state,
+cached; the shaking), ``measures`` (wall, faces, moments, settlement, Mononobe-Okabe),
+``compare`` (one frequency: run folder, tables, figures, recording). Data and every
+assumption: ../shared/reference/seismic-sheetpile.md, reference.json.
+
+Not done yet (issue 26): ``validate`` over 1, 3, 4, 5, 6 Hz and docs/validation/seismic.*,
+the shear-strain field (Fig. 7), K against rotation (Fig. 4) as a figure, the triaxial
+check of phi ~ 31 deg and the Vs check in the free-field column.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+from ..options import number, output_file
+from ..runner import closing_line
+from ..study import Command, Option, Study
+
+
+def _default_case():
+    from .case import SeismicCase
+    return SeismicCase()
+
+
+def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    from ..progress import progress
+    from .compare import compare_seismic
+
+    with progress(opts.quiet) as bar:
+        task = bar.add_task("shaking", total=1, status="")
+        result, folder = compare_seismic(
+            case, root=Path(opts.out), record=bool(opts.rrd), rrd=opts.rrd,
+            progress=lambda done, total: bar.update(task, completed=done, total=total, status=""),
+            log=lambda msg: bar.update(task, status=msg))
+    return result, closing_line(result, scale_note(case), folder)
+
+
+def scale_note(case) -> str | None:
+    """The line every coarser-than-paper run carries (the resolution is stated in every output)."""
+    if case.scale == 1.0:
+        return None
+    return (f"grain scale {case.scale:g}: grains {case.grains[0] * 1e3:.1f}-{case.grains[1] * 1e3:.1f} mm and a "
+            f"{2 * case.wall_ball * 1e3:.0f} mm wall of the paper's EI and mass (paper: 1.5-2.5 mm grains, 5 mm "
+            "wall); how results move with resolution is not measured yet")
+
+
+def _text(r: dict) -> str:
+    p = r["prototype"]
+    s, e = p["static"], p["residual"]
+    return (f"{r['frequency_Hz']:g} Hz (prototype), grain scale {r['grain_scale']:g}: {r['particles']} spheres "
+            f"(+{sum(r['column_particles'])} in the free-field columns), porosity {r['porosity']:.3f}, "
+            f"dt {r['dt_s']:.3g} s, {r['steps']} steps at {r['steps_per_s']:.0f} steps/s\n"
+            f"static: wall top {s['top_displacement_m'] * 1e3:.1f} mm toward the excavation, thrust back "
+            f"{s['thrust_back_kN_per_m']:.1f} / front {s['thrust_front_kN_per_m']:.1f} kN/m, moment "
+            f"{s['max_moment_kN_m_per_m']:.1f} kN m/m\n"
+            f"residual: wall top {e['top_displacement_m'] * 1e3:.1f} mm, rotation {e['rotation_deg']:.3f} deg "
+            f"(pivot at {e['pivot_height_over_wall_length']:.2f} of the wall above its toe), thrust back "
+            f"{e['thrust_back_kN_per_m']:.1f} / front {e['thrust_front_kN_per_m']:.1f} kN/m; moment max / static "
+            f"{p['max_moment_over_static']:.2f}, residual / static {p['residual_moment_over_static']:.2f}")
+
+
+COMPARE = Command(
+    verb="compare", help="Sizkow & El Shamy's sheet pile at 50 g, one shaking frequency (3D, long; not yet validated)",
+    description="A cantilever sheet pile of bonded balls retaining 9 m of dry sand over 6 m (prototype), "
+                "a 50 g model with free-field lateral boundaries, the base shaken by a 0.1 g sinusoid "
+                "(3 s ramp, 4 s hold, 1 s decay). Results in prototype units with Mononobe-Okabe. "
+                "Not yet validated (issue 26): tested on small models only; the coarse resolution "
+                "(~51k spheres) is estimated at about 1 h of CPU for the shaking alone, the paper's at "
+                "13-29 h. Example: wallsim compare seismic --freq 5 --resolution coarse",
+    default_case=_default_case, run=_compare, text=_text, busy_note=True,
+    options=(
+        Option("--freq", "base-motion frequency, prototype [Hz] (5)", key="frequency",
+               parse=number("freq", 0.0, 20.0, unit="Hz")),
+        Option("--resolution", "coarse (grains x 2) or paper (1.5-2.5 mm grains) (coarse)", key="resolution",
+               choices=("coarse", "paper")),
+        Option("--rrd", "write a recording (recording.rrd in the run folder, or FILE)", metavar="FILE",
+               parse=output_file("rrd", (".rrd",)), optional=True),
+    ))
+
+STUDY = Study(name="seismic", title="Sizkow & El Shamy, a sheet pile shaken at 50 g (3D DEM, free-field boundaries)",
+              commands=(COMPARE,), reference_file=Path(__file__).with_name("reference.json"))
