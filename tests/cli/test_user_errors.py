@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 import cli
+from tests.conftest import interruptible
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -190,14 +191,14 @@ def test_ctrl_c_stops_with_one_line_and_exit_130(argv, resumable, tmp_path):
     that names the run folder (and the resume command where there is one). Before,
     calibrate biaxial ran on: the interrupt was swallowed in a pymunk callback."""
     env = dict(os.environ, NUMBA_NUM_THREADS="1")
-    proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), *argv, "--quiet", "--out", str(tmp_path)],
-                            cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if resumable:  # into the movement: its first checkpoint exists
-        _wait_until(proc, lambda: any(tmp_path.glob("*/*/checkpoints/*")), "at a checkpoint")
-    else:  # as far in as 6 s of an idle machine's run
-        _wait_until(proc, lambda: _cpu_seconds(proc.pid) >= 6.0, "6 s of CPU in")
-    proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=120)
+    with interruptible([sys.executable, str(ROOT / "cli.py"), *argv, "--quiet", "--out", str(tmp_path)],
+                       cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as proc:
+        if resumable:  # into the movement: its first checkpoint exists
+            _wait_until(proc, lambda: any(tmp_path.glob("*/*/checkpoints/*")), "at a checkpoint")
+        else:  # as far in as 6 s of an idle machine's run
+            _wait_until(proc, lambda: _cpu_seconds(proc.pid) >= 6.0, "6 s of CPU in")
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
     assert "Traceback" not in err and "Exception ignored" not in err
     last = err.strip().splitlines()[-1]
@@ -241,13 +242,13 @@ def test_the_printed_resume_command_continues_where_the_run_started(tmp_path):
     (--no-rrd kept: no recording)."""
     env = dict(os.environ, NUMBA_NUM_THREADS="1")
     root = tmp_path / "first"
-    proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), "compare", "nadukuru", "--particles", "3000",
-                             "--no-rrd", "--quiet", "--out", str(root)], cwd=tmp_path, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    _wait_until(proc, lambda: any(root.glob("nadukuru/*/checkpoints/movement.npz")),  # part of the movement saved
-                "at a checkpoint")
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=120)
+    with interruptible([sys.executable, str(ROOT / "cli.py"), "compare", "nadukuru", "--particles", "3000",
+                        "--no-rrd", "--quiet", "--out", str(root)], cwd=tmp_path, env=env,
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as proc:
+        _wait_until(proc, lambda: any(root.glob("nadukuru/*/checkpoints/movement.npz")),  # part of the movement saved
+                    "at a checkpoint")
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
     line = err.strip().splitlines()[-1]
     assert proc.returncode == 130 and "--resume" in line
     folder = Path(line.split("--resume ", 1)[1])

@@ -257,16 +257,19 @@ def _interrupt_when_a_point_finishes(argv, out: Path, before: set) -> tuple[int,
     return (exit code, stderr, seconds from SIGINT to exit, process group)."""
     import subprocess
     import sys
-    proc = subprocess.Popen([sys.executable, str(ROOT / "cli.py"), "sweep", "khosravi", *argv, "--out", str(out),
-                             "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, env=dict(os.environ, PYTHONPATH=str(ROOT)))
-    deadline = time.monotonic() + 120
-    while not set(out.glob("khosravi/*/result.json")) - before and time.monotonic() < deadline:
-        time.sleep(0.1)
-    t0 = time.monotonic()
-    os.killpg(proc.pid, signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
-    return proc.returncode, err, time.monotonic() - t0, proc.pid
+    from tests.conftest import interruptible
+
+    with interruptible([sys.executable, str(ROOT / "cli.py"), "sweep", "khosravi", *argv, "--out", str(out),
+                        "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                       start_new_session=True, env=dict(os.environ, PYTHONPATH=str(ROOT))) as proc:
+        deadline = time.monotonic() + 900  # a bound for a hung sweep, not a pace: a busy machine is slow
+        while not set(out.glob("khosravi/*/result.json")) - before and time.monotonic() < deadline:
+            assert proc.poll() is None, proc.communicate()[1][-300:]
+            time.sleep(0.1)
+        t0 = time.monotonic()
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+        return proc.returncode, err, time.monotonic() - t0, proc.pid
 
 
 def _group_is_gone(pgid: int, wait_s: float = 5.0) -> bool:
