@@ -68,16 +68,20 @@ def _write_tables(folder, case: HeapCase, run: HeapRun, norm: float) -> None:
     folder.write_csv("surface.csv", ["x_m", "surface_height_m"], list(zip(run.shape.x, run.shape.top)))
 
 
-def heap_only(frame, half_length: float) -> SimpleNamespace:
+def heap_only(frame, half_length: float, y_band: tuple[float, float]) -> SimpleNamespace:
     """The grains and contacts of a frame above the base (the spill on the catch floor
-    left out), with the base panels, for the force-chain figure."""
+    left out) within a slab ``y_band`` [m] of the periodic width (a thin slab shows the
+    chains; the whole 0.6 m projected is a thicket), with the base panels."""
     pos = np.asarray(frame.positions)
-    keep = (pos[:, 2] > -0.05) & (np.abs(pos[:, 0]) < half_length + 0.1)
+
+    def inside(p):
+        return (p[:, 2] > -0.05) & (np.abs(p[:, 0]) < half_length + 0.1) & (p[:, 1] >= y_band[0]) & (p[:, 1] < y_band[1])
+
     ca = np.asarray(frame.contact_a)
-    kc = (ca[:, 2] > -0.05) & (np.abs(ca[:, 0]) < half_length + 0.1)
+    kc = inside(ca)
     corners = np.asarray(frame.panel_corners)
     base = np.abs(corners[:, :, 2]).max(axis=1) < 0.5
-    return SimpleNamespace(positions=pos[keep], contact_force=np.asarray(frame.contact_force)[kc],
+    return SimpleNamespace(positions=pos[inside(pos)], contact_force=np.asarray(frame.contact_force)[kc],
                            contact_a=ca[kc], contact_b=np.asarray(frame.contact_b)[kc], panel_corners=corners[base])
 
 
@@ -87,11 +91,13 @@ def _write_figures(folder, case: HeapCase, run: HeapRun, norm: float) -> None:
     from viz.figures import plot_force_chains, plot_series
 
     half, x = 0.5 * case.base_length, bin_centres(case)
-    plot_force_chains(heap_only(run.frames["before"], half), folder.file("fig1a_heap.png"),
+    band = (0.5 * case.width - 1.5 * case.d_max, 0.5 * case.width + 1.5 * case.d_max)    # ~3 grains thick
+    plot_force_chains(heap_only(run.frames["before"], half, band), folder.file("fig1a_heap.png"),
                       title=f"Fig. 1(a): the heap before subsidence (H {run.shape.H:.2f} m, slope "
-                            f"{run.shape.slope_deg:.1f} deg), force chains")
-    plot_force_chains(heap_only(run.frames["after"], half), folder.file("fig1b_force_chains.png"),
-                      title=f"Fig. 1(b): force chains after subsidence, Delta/H = {run.disp_over_H:.4f}")
+                            f"{run.shape.slope_deg:.1f} deg), force chains in a slab {band[1] - band[0]:.2f} m thick")
+    plot_force_chains(heap_only(run.frames["after"], half, band), folder.file("fig1b_force_chains.png"),
+                      title=f"Fig. 1(b): force chains after subsidence, Delta/H = {run.disp_over_H:.4f}, "
+                            f"slab {band[1] - band[0]:.2f} m thick")
     plot_series(x, {"before subsidence": run.sigma_before / norm,
                     f"after, Delta/H = {run.disp_over_H:.4f}": run.sigma_after / norm},
                 folder.file("fig1c_base_stress.png"), xlabel="x [m] (base centre at 0)",
@@ -107,7 +113,7 @@ def _result(case: HeapCase, run: HeapRun, norm: float, folder) -> dict:
     c0, p0, r0 = centre_over_peak(run.sigma_before)
     c1, p1, r1 = centre_over_peak(run.sigma_after)
     return {
-        "case": "heap", "particles": run.spheres, "bodies": run.bodies, "seed": case.seed,
+        "case": "heap", "particles": run.spheres, "bodies": run.bodies, "seed": case.seed,   # as rained
         "heap_spheres": run.shape.spheres, "H_m": run.shape.H, "slope_deg": run.shape.slope_deg,
         "porosity": run.porosity, "subsidence_over_H": run.disp_over_H,
         "centre_over_peak_before": r0, "centre_over_peak_after": r1,

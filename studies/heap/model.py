@@ -267,8 +267,12 @@ def slump(case: HeapCase, sim, log: StageLog, progress=None, on_frame=None) -> d
     sim.set_params(contact(case, 0.0))
     total, steps = int(case.slump_time / sim.dt), 0
     chunk = int(0.25 / sim.dt)            # a frame every 0.25 s of the flow
+    task = progress.add_task("slumping", total=total, status="") if progress is not None else None
     while steps < total:
-        steps += advance(sim, min(chunk, total - steps), progress, "slumping" if steps == 0 else "")
+        done = advance(sim, min(chunk, total - steps))
+        steps += done
+        if task is not None:
+            progress.update(task, advance=done, status=f"t = {sim.time:.2f} s")
         if on_frame is not None:
             on_frame(dem3d.frame(sim), None)
     log.stage("slump", steps)
@@ -455,8 +459,8 @@ class HeapRun:
     weight_N: float
     base_force_before_N: float
     frames: dict
-    spheres: int
-    bodies: int
+    spheres: int          # rained (the case's particle count)
+    bodies: int           # rained
     dt: float
     stages: dict
 
@@ -467,6 +471,7 @@ def run_heap(case: HeapCase, *, on_frame=None, progress=None) -> HeapRun:
     subsidence and the end state."""
     log = StageLog()
     sim = rain(case, log, progress)
+    spheres, bodies = sim.n_spheres, int(len(np.unique(sim.spheres.body_id)))
     if on_frame is not None:
         on_frame(dem3d.frame(sim), None)
     sim = slump(case, sim, log, progress, on_frame)
@@ -486,6 +491,5 @@ def run_heap(case: HeapCase, *, on_frame=None, progress=None) -> HeapRun:
     frames["after"] = dem3d.frame(sim)
     if on_frame is not None:
         on_frame(frames["after"], centre_drop(sim) / shape.H)
-    n_bodies = int(len(np.unique(sim.spheres.body_id)))
     return HeapRun(shape, porosity, sigma_before, sigma_after, hist, centre_drop(sim) / shape.H, weight,
-                   float(np.sum(sigma_before * areas)), frames, sim.n_spheres, n_bodies, sim.dt, log.stages)
+                   float(np.sum(sigma_before * areas)), frames, spheres, bodies, sim.dt, log.stages)

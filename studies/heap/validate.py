@@ -27,6 +27,12 @@ def validate_heap(case: HeapCase, *, seeds: int = 3, out_dir: Path = Path("docs/
         runs.append(res)
         log(f"heap: seed {seed}: centre/peak {res['centre_over_peak_before']:.3f} -> "
             f"{res['centre_over_peak_after']:.3f}, slope {res['slope_deg']:.1f} deg, {res['wall_time_s']:.0f} s")
+    return write_report(case, runs, out_dir)
+
+
+def write_report(case: HeapCase, runs: list[dict], out_dir: Path) -> dict:
+    """heap.json, heap_base_stress.png and heap.md (with heap_discussion.md, if there)
+    from the runs' result dicts (``compare_heap``, or their result.json files)."""
     rep = report_json(case, runs)
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "heap.json").write_text(json.dumps(rep, indent=2) + "\n")
@@ -43,7 +49,8 @@ def _stats(values) -> dict:
 
 def report_json(case: HeapCase, runs: list[dict]) -> dict:
     rep = {k: _stats([r[k] for r in runs]) for k in KEYS}
-    rep |= {"particles": runs[0]["particles"], "bodies": runs[0]["bodies"],
+    # every seed rains exactly case.particles spheres (random_specimen places all or refuses)
+    rep |= {"particles": case.particles, "bodies": case.bodies,
             "heap_spheres": [r["heap_spheres"] for r in runs], "seeds": [r["seed"] for r in runs],
             "wall_time_s": _stats([r["wall_time_s"] for r in runs]),
             "cpu_time_s": _stats([r["cpu_time_s"] for r in runs]),
@@ -51,9 +58,18 @@ def report_json(case: HeapCase, runs: list[dict]) -> dict:
             "base_stress_over_rho_g_1mn_H": [r["base_stress_over_rho_g_1mn_H"] for r in runs],
             "case": dataclasses.asdict(case) | {"seed": None}, "assumptions": ASSUMPTIONS,
             "run_folders": [r["run_folder"] for r in runs],
-            "git": git_revision(), "versions": package_versions(),
+            "git": _started_at(runs), "versions": package_versions(),
             "source": "Nadukuru & Michalowski (2012), Fig. 1 and its description (section on arching)"}
     return rep
+
+
+def _started_at(runs: list[dict]) -> str:
+    """The git revision the runs started from (their manifests), not the one at the end."""
+    revs = []
+    for r in runs:
+        man = Path(r["run_folder"]) / "manifest.json"
+        revs.append(json.loads(man.read_text())["git"] if man.is_file() else git_revision())
+    return ", ".join(dict.fromkeys(revs))
 
 
 def _figure(runs: list[dict], path: Path) -> None:

@@ -53,3 +53,25 @@ def test_subsidence_reaches_the_papers_delta(small_heap):
 def test_bad_input_names_the_parameter(key, value):
     with pytest.raises(InvalidParameter, match=key):
         HeapCase(**{key: value})
+
+
+def test_report_has_the_issue_keys_and_seed_statistics(tmp_path):
+    """docs/validation/heap.json carries the keys issue 25 names, with mean and sample
+    sd over the seeds (here of made-up runs: sd of 0.5, 0.6, 0.7 is 0.1)."""
+    from studies.heap.validate import write_report
+
+    case = HeapCase()
+    prof = {"x_m": [-0.5, 0.5], "before": [1.0, 1.0], "after": [0.8, 0.8]}
+    runs = [{"centre_over_peak_before": 0.9, "centre_over_peak_after": a, "slope_deg": 24.0, "H_m": 0.8,
+             "porosity": 0.4, "base_load_over_heap_weight": 1.0, "subsidence_over_H": 0.0067, "particles": 12000,
+             "heap_spheres": 9000, "seed": k + 1, "wall_time_s": 600.0, "cpu_time_s": 300.0, "stages": {},
+             "provenance": {"dt_s": 2.5e-5}, "base_stress_over_rho_g_1mn_H": prof,
+             "run_folder": str(tmp_path / f"run{k}")} for k, a in enumerate((0.5, 0.6, 0.7))]
+    rep = write_report(case, runs, tmp_path)
+    for key in ("centre_over_peak_before", "centre_over_peak_after", "slope_deg", "particles", "seeds",
+                "wall_time_s"):
+        assert key in rep
+    assert rep["centre_over_peak_after"]["mean"] == pytest.approx(0.6)
+    assert rep["centre_over_peak_after"]["sd"] == pytest.approx(0.1)
+    assert rep["seeds"] == [1, 2, 3] and rep["particles"] == 12000
+    assert (tmp_path / "heap.md").is_file() and (tmp_path / "heap_base_stress.png").is_file()
