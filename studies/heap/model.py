@@ -58,15 +58,25 @@ class HeapCase:
 
     particles:        spheres incl. clump members (12,000; 15,000 if the paper counted bodies)
     clump_fraction:   fraction of bodies that are two-sphere clumps (paper 0.25)
+    clump_overlap:    overlap of a clump's two spheres in radii (paper 1)
     d_min, d_max:     sphere diameters, uniform (paper radii 2.3-3.7 cm; module docstring)
+    kn, ks:           linear contact stiffness [N/m] (assumed: the wall study's)
+    particle_friction: grain friction (paper 0.65)
+    base_friction:    friction of the base halves (assumed 0.65)
+    density:          grain density [kg/m^3] (assumed: the wall study's 2650)
+    damping_ratio:    viscous normal damping, fraction of critical (assumed 0.2, as the wall study)
+    local_damping:    PFC local damping while raining settles and after the flow (PFC's 0.7)
+    target_porosity:  porosity used to size the generation box and fill height
+    hold_time:        time [s] the subsided base is held before the stresses are read
     base_length, width: the base L x w (paper 4.8 x 0.6); w is the periodic length
     bins:             base panels (stress bins), an even number, half on each half of the base
     subsidence_over_H: Delta/H at the centre (paper 0.0067)
-    subsidence_speed: speed of the inner edges [m/s] once ramped up over ``ramp`` [s]
+    subsidence_speed: speed of the inner edges [m/s] once ramped up over ``ramp``
+    ramp:             time [s] over which the subsidence speed ramps up from 0
     slump_time:       time [s] the fill flows without local damping once the end walls go
     settle_ratio:     unbalanced-force ratio that ends raining
-    rest_speed, arrest_time: rms speed [m/s] of the heap's grains at which it is at rest,
-                      and the longest the arrest may take [s]
+    rest_speed:       rms speed [m/s] of the heap's grains at which it counts as at rest
+    arrest_time:      the longest [s] the arrest (local damping on) may take
     average_steps:    steps over which the base stresses are averaged (before / after)
     """
 
