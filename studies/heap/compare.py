@@ -114,7 +114,7 @@ def _result(case: HeapCase, run: HeapRun, norm: float, folder) -> dict:
     c1, p1, r1 = centre_over_peak(run.sigma_after)
     return {
         "case": "heap", "particles": run.spheres, "bodies": run.bodies, "seed": case.seed,   # as rained
-        "heap_spheres": run.shape.spheres, "H_m": run.shape.H, "slope_deg": run.shape.slope_deg,
+        "heap_spheres": run.shape.spheres, "heap_height_m": run.shape.H, "slope_deg": run.shape.slope_deg,
         "porosity": run.porosity, "subsidence_over_H": run.disp_over_H,
         "centre_over_peak_before": r0, "centre_over_peak_after": r1,
         "centre_stress_over_rho_g_1mn_H": {"before": c0 / norm, "after": c1 / norm},

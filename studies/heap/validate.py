@@ -13,7 +13,7 @@ from ..runfolder import git_revision, package_versions
 from .compare import ASSUMPTIONS, compare_heap
 from .model import HeapCase
 
-KEYS = ("centre_over_peak_before", "centre_over_peak_after", "slope_deg", "H_m", "porosity",
+KEYS = ("centre_over_peak_before", "centre_over_peak_after", "slope_deg", "heap_height_m", "porosity",
         "base_load_over_heap_weight", "subsidence_over_H")
 
 
@@ -108,7 +108,7 @@ def report_markdown(rep: dict, discussion: Path | None = None) -> str:
         _row("centre / peak base stress, before subsidence", rep["centre_over_peak_before"]),
         _row("centre / peak base stress, after subsidence", rep["centre_over_peak_after"]),
         _row("heap slope [deg]", rep["slope_deg"], ".1f"),
-        _row("heap height H [m]", rep["H_m"]),
+        _row("heap height H [m]", rep["heap_height_m"]),
         _row("porosity of the heap's core", rep["porosity"]),
         _row("Delta/H reached", rep["subsidence_over_H"], ".4f"),
         _row("base load / heap weight (before)", rep["base_load_over_heap_weight"]),

@@ -62,7 +62,7 @@ def test_report_has_the_issue_keys_and_seed_statistics(tmp_path):
 
     case = HeapCase()
     prof = {"x_m": [-0.5, 0.5], "before": [1.0, 1.0], "after": [0.8, 0.8]}
-    runs = [{"centre_over_peak_before": 0.9, "centre_over_peak_after": a, "slope_deg": 24.0, "H_m": 0.8,
+    runs = [{"centre_over_peak_before": 0.9, "centre_over_peak_after": a, "slope_deg": 24.0, "heap_height_m": 0.8,
              "porosity": 0.4, "base_load_over_heap_weight": 1.0, "subsidence_over_H": 0.0067, "particles": 12000,
              "heap_spheres": 9000, "seed": k + 1, "wall_time_s": 600.0, "cpu_time_s": 300.0, "stages": {},
              "provenance": {"dt_s": 2.5e-5}, "base_stress_over_rho_g_1mn_H": prof,
