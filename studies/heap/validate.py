@@ -82,7 +82,7 @@ def _figure(runs: list[dict], path: Path) -> None:
         ys[f"seed {r['seed']} before"] = (x, np.array(prof["before"]))
         ys[f"seed {r['seed']} after"] = (x, np.array(prof["after"]))
     plot_series(x, ys, path, xlabel="x [m] (base centre at 0)", ylabel="sigma_v / (rho g (1 - n) H)",
-                title="Heap base stress before / after subsidence (Nadukuru & Michalowski Fig. 1c)")
+                title="Heap base stress before / after subsidence (paper Fig. 1c)")
 
 
 def _row(name: str, s: dict, fmt: str = ".3f") -> str:
