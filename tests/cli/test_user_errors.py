@@ -53,7 +53,7 @@ BAD = [
     ["compare", "nadukuru", "--set", "novalue"],
     ["compare", "khosravi", "--particles", "3000"],            # not --particles-scale
     ["validate", "khosravi", "--out-dir", "x"],                # now --docs
-    ["keys", "heap"],
+    ["keys", "sandpile"],                                    # no such study
     # files
     ["theory", "--plot", "p.txt"],
     ["theory", "--plot", "missing/dir/p.png"],
