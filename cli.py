@@ -344,7 +344,7 @@ class _Renamed(argparse.Action):
 
 def _add_study_command(sub, study, cmd) -> None:
     """``wallsim <verb> <study>`` with the command's options and the ones every run shares."""
-    from studies.options import output_folder
+    from studies.options import output_folder, scheduler_address
 
     p = _verb_group(sub, cmd.verb).add_parser(study.name, help=cmd.help, description=cmd.description)
     for opt in cmd.options:
@@ -376,7 +376,9 @@ def _add_seeds_options(p) -> None:
                         "mean +- sd over the seeds against the paper's tolerance (<docs>/<study>_seeds.md)")
     p.add_argument("--workers", type=_count("workers"), default=None,
                    help="with --seeds: worker processes of the local cluster (the cores)")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="with --seeds: an existing Dask cluster, e.g. tcp://host:8786")
+    from studies.options import scheduler_address
+    p.add_argument("--scheduler", metavar="ADDRESS", type=_argparse_type(scheduler_address("scheduler"), "scheduler"),
+                   help="with --seeds: an existing Dask cluster, e.g. tcp://host:8786")
 
 
 def typed_flags(cmd, args) -> dict:
@@ -472,7 +474,7 @@ def _note_if_busy() -> None:
 
 def _add_sweep(sub) -> None:
     from studies import NAMES
-    from studies.options import output_folder
+    from studies.options import output_folder, scheduler_address
 
     p = sub.add_parser("sweep", help="a study over the product of varied settings and seeds, on Dask",
                        description="Every point of --vary (Cartesian product) run by the study's main command, "
@@ -492,7 +494,8 @@ def _add_sweep(sub) -> None:
                    help="outputs to tabulate and draw (default: every number of the result's 'dem' record)")
     p.add_argument("--workers", type=_count("workers"), default=None,
                    help="worker processes of the local cluster (the cores)")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask cluster, e.g. tcp://host:8786")
+    p.add_argument("--scheduler", metavar="ADDRESS", type=_argparse_type(scheduler_address("scheduler"), "scheduler"),
+                   help="an existing Dask cluster, e.g. tcp://host:8786")
     p.add_argument("--out", default="sweeps", metavar="DIR", type=_argparse_type(output_folder("out"), "out"),
                    help="run folders (DIR/<study>/<point>) and the sweep tables (sweeps)")
     p.add_argument("--json", action="store_true", help="print {points, groups} as JSON on stdout")

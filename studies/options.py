@@ -84,6 +84,20 @@ def output_folder(name: str):
     return parse
 
 
+def scheduler_address(name: str):
+    """A Dask scheduler address, ``[tcp|tls|ws|wss|inproc|ucx]://host:port`` or ``host:port``
+    (what dask.distributed accepts; it raises a traceback on anything else)."""
+    import re
+    form = re.compile(r"^(?:(?:tcp|tls|ws|wss|inproc|ucx)://)?[A-Za-z0-9_.\-\[\]:]*[A-Za-z0-9_.\-\]]:\d{1,5}$")
+
+    def parse(text: str) -> str:
+        if not form.match(text) or not 0 < int(text.rsplit(":", 1)[1]) < 65536:
+            raise InvalidParameter(name, text, "a Dask scheduler address, e.g. tcp://host:8786")
+        return text
+    parse.__name__ = name
+    return parse
+
+
 #: the recording flags of the 3D runs
 RECORDING = (
     Option("--rrd", "recording path (default: recording.rrd in the run folder; written unless --no-rrd)",

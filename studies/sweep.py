@@ -316,7 +316,12 @@ def dask_client(workers: int | None = None, scheduler: str | None = None):
     import logging
     from dask.distributed import Client, LocalCluster
     if scheduler:
-        with Client(scheduler) as client:
+        try:
+            client = Client(scheduler)
+        except OSError as err:  # nobody answers there: one line, not dask's traceback
+            from analytic.errors import InvalidParameter
+            raise InvalidParameter("scheduler", scheduler, f"a running Dask scheduler ({err})") from None
+        with client:
             yield client
         return
     n = workers or os.cpu_count() or 1

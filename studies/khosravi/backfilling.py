@@ -68,6 +68,7 @@ def run_backfilling(case: KhosraviCase, *, root: str | Path = "runs", quiet: boo
     write_backfilling(rf, bf.layer_readings, case.panel_height, gamma=bf.gamma, H=bf.H, n_grains=bf.n_grains)
     result = {"particles": bf.n_grains, "seed": case.seed, "H_m": bf.H, "gamma_N_per_m3": bf.gamma,
               "porosity": bf.porosity, "layers": len(bf.layer_readings), "hold_depth_m": 0.0,
+              "replaces_hold_depth_m": case.pluviation.hold_depth,
               "unread_cells_below_surface": unread, "specimen_reused": reused,
               "timings_s": {**clock.seconds, "cpu_total": time.process_time() - c_start}}
     finish(rf, result, n_grains=bf.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,

@@ -131,13 +131,14 @@ def _backfilling_lines(bf: dict | None) -> list[str]:
     if bf is None:
         return ["Fig. 9 is the held-layer fill's: cells beside grains held static are not read."]
     rev = (bf.get("manifest") or {}).get("git", "unknown")
+    held = f"{bf.get('replaces_hold_depth_m', float('nan')) * 100:.3g} cm"
     t = bf.get("timings_s", {})
     return [f"Fig. 9 and `khosravi/backfilling.csv` come from a free fill of the same box (nothing held, "
             f"{bf['particles']} disks, seed {bf['seed']}, {bf['layers']} layers, "
             f"{bf['unread_cells_below_surface']} cells below the surface not read; pluviation "
             f"{t.get('pluviation_s', float('nan')) / 60:.1f} min, CPU {t.get('cpu_total', float('nan')) / 60:.1f} min; "
-            f"git {rev}): the run above holds grains deeper than 2 cm below the surface static while the next "
-            f"layers fall (3.8x cheaper), so beside them the wall reads only the free strip along it."]
+            f"git {rev}): the run above holds grains deeper than {held} below the surface static while the "
+            f"next layers fall (fewer moving grains), so beside them the wall reads only the free strip along it."]
 
 
 def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: dict,

@@ -126,12 +126,9 @@ def test_das_pfe_7_2_bell_c_phi_tension_crack():
     assert round(d.parts["soil"].height, 2) == c["height_after_crack_m"]
     before = cohesive_wedge(c["H"], c["phi"], c["gamma"] * 1e3, c["c"] * 1e3, tension_crack=False)
     assert round(before.P / 1e3, 2) == c["Pa_before_crack_companion_kN"]
-    # the book's 14.46 is the same expression with its rounded Ka and sqrt(Ka), the base
-    # pressures rounded to 0.01 kPa first: 1/2 H (40.72) - H (17.95) = 122.16 - 107.70
-    soil = round(c["gamma"] * c["H"] * c["Ka_printed"], 2) * c["H"] / 2
-    coh = round(2 * c["c"] * c["sqrtKa_printed"], 2) * c["H"]
-    assert (round(soil, 2), round(coh, 2)) == (122.16, 107.70)
-    assert round(soil - coh, 2) == c["Pa_before_crack_printed_kN"]
+    # the book's 14.46 is the same expression with its rounded Ka (0.39) and sqrt(Ka)
+    # (0.625), the base pressures rounded to 0.01 kPa first: 1/2 H (40.72) - H (17.95) =
+    # 122.16 - 107.70; wallsim's exact Ka gives the companion's 14.62 (asserted above)
 
 
 def test_das_pge_13_5_undrained_clay_crack():
@@ -173,4 +170,3 @@ def test_das_pge_14_1_passive_coulomb_and_log_spiral():
     assert round(p.thrust / 1e3, 1) == c["Pp_coulomb_kN"]
     K, _ = terzaghi_log_spiral_kp(c["phi"], c["delta"])
     assert c["Kp_shields_tolunay"] < K < c["Kp_coulomb"]
-    assert round(K, 3) == 4.615     # the figure the JSON's "found" reports

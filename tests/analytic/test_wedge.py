@@ -75,22 +75,14 @@ def test_bell_undrained_published_acharya():
     assert r.P / 1e3 == pytest.approx(e["Pa_kN"], rel=5e-3)
 
 
-def test_wedge_against_en1997_c1():
+def test_wedge_equals_en1997_c1_for_bell():
     """Comparison (reported, not tuned): EN 1997-1 C.1's K_ac = 2 sqrt(K_n (1 + a/c)) is
     exact for delta = a = 0 (Bell) and for phi = 0 (above), an approximation otherwise.
-    H 6, gamma 18, c 10 kPa, horizontal thrusts, trial wedge vs C.1 (found):
-    phi 25, delta 0, a/c 0.5: 53.86 vs 54.54 kN/m (-1.2 %);
-    phi 25, delta 2/3 phi, a/c 0.5: 46.12 vs 42.25 (+9.2 %);
-    phi 30, delta 20, a/c 0: 41.43 vs 38.20 (+8.4 %);
-    phi 30, delta 20, a/c 1: 26.08 vs 27.54 (-5.3 %).
-    Asserted: the C.1 profile of ground.earth_pressure is within 10 % of the wedge for
-    these cases, and equal (1e-7) for delta = a = 0."""
-    cases = [(25, 0.0, 0.5, 53.86), (25, 25 * 2 / 3, 0.5, 46.12), (30, 20, 0.0, 41.43), (30, 20, 1.0, 26.08)]
-    for phi, delta, ac, found in cases:
-        r = cohesive_wedge(6.0, phi, 18e3, 10e3, ac * 10e3, delta)
-        d = earth_pressure(Ground.uniform(6.0, phi, 18e3, 10e3), Wall(6.0, delta), "coulomb", adhesion_ratio=ac)
-        assert r.P_h / 1e3 == pytest.approx(found, abs=0.01)
-        assert abs(d.horizontal_thrust() / r.P_h - 1) < 0.10, (phi, delta, ac)
+    H 6, gamma 18, c 10 kPa, horizontal thrusts, C.1 against the trial wedge (measured,
+    not asserted: no source gives them): phi 25, delta 0, a/c 0.5: +1.2 %; phi 25,
+    delta 2/3 phi, a/c 0.5: -8.4 %; phi 30, delta 20, a/c 0: -7.8 %; phi 30, delta 20,
+    a/c 1: +5.6 %. Asserted: the C.1 profile of ground.earth_pressure equals the wedge
+    (1e-7) for delta = a = 0, where both are Bell's solution."""
     r = cohesive_wedge(6.0, 30, 18e3, 10e3)
     d = earth_pressure(Ground.uniform(6.0, 30, 18e3, 10e3), Wall(6.0), "coulomb")
     assert d.horizontal_thrust() == pytest.approx(r.P_h, rel=1e-7)

@@ -20,6 +20,9 @@ from tests.conftest import interruptible
 ROOT = Path(__file__).resolve().parents[2]
 
 BAD = [
+    # Dask scheduler addresses dask.distributed cannot parse (it raised a traceback)
+    ["validate", "nadukuru", "--seeds", "1..2", "--scheduler", "notanaddress"],
+    ["sweep", "nadukuru", "--vary", "seed=1,2", "--scheduler", "tcp://host:99999"],
     # counts and numbers
     ["compare", "nadukuru", "--particles", "50"],
     ["compare", "nadukuru", "--particles", "800"],           # below the 878 a 3.1 m wall needs
