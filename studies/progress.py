@@ -152,3 +152,17 @@ def busy_cores(interval: float = 0.3) -> float | None:
     if total1 <= total0:
         return None
     return (1.0 - (idle1 - idle0) / (total1 - total0)) * (os.cpu_count() or 1)
+
+
+def step_with_progress(sim, n_steps: int, progress=None, label: str = "", chunk: int = 1000) -> int:
+    """Advance a dem3d ``sim`` by ``n_steps`` in chunks, showing a bar named ``label`` on
+    ``progress`` (none without a label). Returns the steps taken."""
+    task = progress.add_task(label, total=n_steps, status="") if progress is not None and label else None
+    done = 0
+    while done < n_steps:
+        k = min(chunk, n_steps - done)
+        sim.step(k)
+        done += k
+        if task is not None:
+            progress.update(task, advance=k, status=f"t = {sim.time:.2f} s")
+    return done

@@ -44,6 +44,7 @@ import dem3d
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 from dem3d import measure
+from studies.progress import step_with_progress
 
 G = 9.81
 #: clump volume over one sphere's for two equal spheres overlapping by one radius
@@ -244,7 +245,7 @@ def rain(case: HeapCase, log: StageLog, progress=None) -> dem3d.Simulation:
     sim = dem3d.Simulation(spec, contact(case, 0.0), dt=dt, walls=walls(case, ends=True),
                            periodic=dem3d.Periodic(1, 0.0, case.width))
     sim.gravity = np.array([0.0, 0.0, -2.0 * G])
-    steps = advance(sim, int(1.2 * math.sqrt(top / G) / dt), progress, "raining")
+    steps = step_with_progress(sim, int(1.2 * math.sqrt(top / G) / dt), progress, "raining")
     sim.gravity = np.array([0.0, 0.0, -G])
     sim.set_params(contact(case, case.local_damping))
     res = dem3d.settle(sim, ratio=case.settle_ratio, check_every=500, max_steps=int(1.0 / dt))
@@ -279,7 +280,7 @@ def slump(case: HeapCase, sim, log: StageLog, progress=None, on_frame=None) -> d
     chunk = int(0.25 / sim.dt)            # a frame every 0.25 s of the flow
     task = progress.add_task("slumping", total=total, status="") if progress is not None else None
     while steps < total:
-        done = advance(sim, min(chunk, total - steps))
+        done = step_with_progress(sim, min(chunk, total - steps))
         steps += done
         if task is not None:
             progress.update(task, advance=done, status=f"t = {sim.time:.2f} s")
@@ -289,7 +290,7 @@ def slump(case: HeapCase, sim, log: StageLog, progress=None, on_frame=None) -> d
     sim = rebuilt(case, sim, on_base(case, sim.spheres.x, sim.spheres.r) & (sim.spheres.x[:, 2] > 0.0))
     steps, speed = 0, math.inf
     while steps < int(case.arrest_time / sim.dt) and speed > case.rest_speed:
-        steps += advance(sim, 500)
+        steps += step_with_progress(sim, 500)
         speed = heap_speed(case, sim)
     log.stage("arrest", steps, rms_speed=speed)
     return sim
@@ -301,18 +302,6 @@ def heap_speed(case: HeapCase, sim) -> float:
     keep = on_base(case, sim.spheres.x, sim.spheres.r) & (sim.spheres.x[:, 2] > 0.0)
     v = sim.spheres.v[keep]
     return float(np.sqrt(np.mean(np.sum(v * v, axis=1)))) if len(v) else 0.0
-
-
-def advance(sim, n_steps: int, progress=None, label: str = "", chunk: int = 1000) -> int:
-    task = progress.add_task(label, total=n_steps, status="") if progress is not None and label else None
-    done = 0
-    while done < n_steps:
-        k = min(chunk, n_steps - done)
-        sim.step(k)
-        done += k
-        if task is not None:
-            progress.update(task, advance=k, status=f"t = {sim.time:.2f} s")
-    return done
 
 
 # ----------------------------------------------------------------------------- measures
@@ -451,7 +440,7 @@ def subside(case: HeapCase, sim, H: float, log: StageLog, *, record_every: int =
             progress.update(task, advance=m, status=f"Delta/H {hist.disp_over_H[-1]:.4f}  centre/peak {c / p:.2f}")
     log.stage("subsidence", n_total)
     fixed = dem3d.Simulation.from_arrays(sim.to_arrays(), walls=walls(case))    # the base stops
-    steps = advance(fixed, int(case.hold_time / fixed.dt))
+    steps = step_with_progress(fixed, int(case.hold_time / fixed.dt))
     log.stage("hold", steps)
     return fixed, hist
 

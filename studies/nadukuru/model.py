@@ -41,6 +41,7 @@ from ..config import with_current_names
 from ..measures import steady_displacement
 from ..report import theory_row
 from ..store import Store, atomic_write, content_key, load_npz, npz_bytes
+from ..progress import step_with_progress
 
 G = 9.81
 MODES = ("T", "RB", "RT", "mixed")
@@ -407,7 +408,7 @@ def _rain_and_pack(spec, rec: SpecimenRecipe, wall: WallSetup, walls: list, gen_
                            periodic=dem3d.Periodic(1, 0.0, wall.width) if wall.side_friction is None else None)
     g_dep = G * rec.deposition_gravity
     sim.gravity = np.array([0.0, 0.0, -g_dep])
-    steps = _advance(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")
+    steps = step_with_progress(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")
     log.stage("fall", steps)
     sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping, soft))
     res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft),
@@ -424,7 +425,7 @@ def _trim_and_stiffen(sim, rec: SpecimenRecipe, H: float, walls: list, dt: float
     here, the last settle result)."""
     g_low = G * rec.rain_gravity
     sim.gravity = np.array([0.0, 0.0, -g_low])
-    steps = _advance(sim, 2000, None, "")
+    steps = step_with_progress(sim, 2000, None, "")
     log.stages["in_front_of_wall"] = int(np.sum(sim.spheres.x[:, 0] < 0.0))   # removed by the trim; 0 with the guard
     sim = _trim(sim, H, walls, rec, dt)      # paper stiffness, still the deposition friction
     sim.gravity = np.array([0.0, 0.0, -g_low])
@@ -446,7 +447,7 @@ def _load_to_gravity(sim, rec: SpecimenRecipe, dt: float, log: _StageLog):
     steps = 0
     for k in range(1, 11):
         sim.gravity = np.array([0.0, 0.0, -(g_low + (G - g_low) * k / 10)])
-        steps += _advance(sim, 500, None, "")
+        steps += step_with_progress(sim, 500, None, "")
     res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=log.trace)
     steps += res.steps
     log.stage("load to g", res.steps + 5000)
@@ -460,7 +461,7 @@ def _measure_at_rest(sim, rec: SpecimenRecipe, wall: WallSetup, scale: float, dt
     box, K0 by eq. 6, resultant height / H, wall load [kN], stress ratio."""
     L, H, w = wall.backfill_length, wall.height, wall.width
     sim.set_params(_contact(rec, rec.particle_friction, 0.0))
-    steps += _advance(sim, 2000, None, "")
+    steps += step_with_progress(sim, 2000, None, "")
     f = dem3d.frame(sim)
     n = measure.porosity(sim, (0.1 * L, 0.0, 0.1 * H), (0.9 * L, w, 0.9 * H))
     load = wall_load(f, sim.walls.panel_ids("wall"), H)
@@ -472,18 +473,6 @@ def _measure_at_rest(sim, rec: SpecimenRecipe, wall: WallSetup, scale: float, dt
                     n_bodies=int(len(np.unique(f.body_id))), grain_scale=scale, dt=dt, steps=steps,
                     sim_time=sim.time, settle_ratio=settle_ratio, fill_height=_fill_height(sim), width=w,
                     stages=stages)
-
-
-def _advance(sim, n_steps: int, progress, label: str, chunk: int = 1000) -> int:
-    task = progress.add_task(label, total=n_steps, status="") if progress is not None and label else None
-    done = 0
-    while done < n_steps:
-        k = min(chunk, n_steps - done)
-        sim.step(k)
-        done += k
-        if task is not None:
-            progress.update(task, advance=k, status=f"t = {sim.time:.2f} s")
-    return done
 
 
 def _fill_height(sim) -> float:
