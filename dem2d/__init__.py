@@ -19,6 +19,8 @@ Layout (docs/dem2d.md has the why):
 * ``blocks``      dry-stone walls of rigid polygon blocks (courses, staggered joints,
                   counter-slope), pair friction, hydrostatic water, loading to failure,
                   sliding / toppling classifier, tilt tests
+* ``gravel``      elongated capsule grains (dry-stone case B backfill), placement at a
+                  lowered friction, porosity, box reactions
 """
 
 from .biaxial import BiaxialCase, BiaxialResult, BiaxialTest
