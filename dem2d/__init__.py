@@ -21,6 +21,7 @@ Layout (docs/dem2d.md has the why):
                   sliding / toppling classifier, tilt tests
 * ``gravel``      elongated capsule grains (dry-stone case B backfill), placement at a
                   lowered friction, porosity, box reactions
+* ``interface``   constant-normal-load shear of gravel over a block face
 """
 
 from .biaxial import BiaxialCase, BiaxialResult, BiaxialTest

@@ -131,6 +131,15 @@ def set_fill_friction(space: pymunk.Space, gravel: Gravel, fill_friction_deg: fl
     return values
 
 
+def cloud(n: int, width: float, gravel: Gravel) -> tuple[np.ndarray, float]:
+    """Centres (n,2) [m] of a sparse cloud over [0, width]: one grain per square cell of
+    side 1.05 L_max (any orientation fits, none overlap), rows upward from y = 0; and the cell."""
+    cell = 1.05 * gravel.aspect_ratio * gravel.width_max_m
+    cols = max(int(width // cell), 1)
+    i = np.arange(n)
+    return np.c_[(i % cols + 0.5) * (width / cols), (i // cols + 0.5) * cell], cell
+
+
 def _new_space(solver: BlockSolver, cell: float, n: int) -> pymunk.Space:
     space = pymunk.Space()
     space.gravity = (0.0, -G)
@@ -184,17 +193,12 @@ class GravelBox:
         grain is below ``ke_per_grain`` [J/m]."""
         g, rng = self.gravel, np.random.default_rng(self.seed)
         n = self.n_grains_for(porosity)
-        cell = 1.05 * g.aspect_ratio * g.width_max_m
-        cols = max(int(self.width_m // cell), 1)
-        rows = -(-n // cols)
+        xy, cell = cloud(n, self.width_m, g)
         self.space = _new_space(self.solver, cell, n)
-        self._add_box(rows * cell + self.height_m)
-        i = np.arange(n)
-        x = (i % cols + 0.5) * (self.width_m / cols)
-        y = (i // cols + 0.5) * cell
+        self._add_box(xy[:, 1].max() + cell + self.height_m)
         self.widths = g.grading.sample(n, rng)
         fr = set_fill_friction(self.space, g, g.placement_friction_deg)
-        self.bodies = add_capsules(self.space, np.c_[x, y], rng.uniform(0, math.pi, n), self.widths, g,
+        self.bodies = add_capsules(self.space, xy, rng.uniform(0, math.pi, n), self.widths, g,
                                    fr.get(FILL_TYPE, 1.0))
         self.settle(settle_s, ke_per_grain)
         set_fill_friction(self.space, g)
