@@ -19,6 +19,9 @@ Layout (docs/dem2d.md has the why):
 * ``blocks``      dry-stone walls of rigid polygon blocks (courses, staggered joints,
                   counter-slope), pair friction, hydrostatic water, loading to failure,
                   sliding / toppling classifier, tilt tests
+* ``gravel``      elongated capsule grains (dry-stone case B backfill), placement at a
+                  lowered friction, porosity, box reactions
+* ``interface``   constant-normal-load shear of gravel over a block face
 """
 
 from .biaxial import BiaxialCase, BiaxialResult, BiaxialTest
