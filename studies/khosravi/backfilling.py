@@ -69,6 +69,7 @@ def run_backfilling(case: KhosraviCase, *, root: str | Path = "runs", quiet: boo
     result = {"particles": bf.n_grains, "seed": case.seed, "H_m": bf.H, "gamma_N_per_m3": bf.gamma,
               "porosity": bf.porosity, "layers": len(bf.layer_readings), "hold_depth_m": 0.0,
               "replaces_hold_depth_m": case.pluviation.hold_depth,
+              "layer_dt_s": case.pluviation.layer_dt, "run_dt_s": case.solver.dt, "sweeps": case.solver.iterations,
               "unread_cells_below_surface": unread, "specimen_reused": reused,
               "timings_s": {**clock.seconds, "cpu_total": time.process_time() - c_start}}
     finish(rf, result, n_grains=bf.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
