@@ -279,17 +279,24 @@ def _weight(section: WallSection, poly: list[Point], gamma_m: float) -> tuple[fl
     return gamma_m * A, xg
 
 
+def _sliding_part(section: WallSection, z: float, phi_b_deg: float, gamma_m: float):
+    """The part above the bed joint at z for the sliding balances (ref. 5.4): its weight W
+    [kN/m], the joint's y_I [m] at the inner face and T = tan(alpha + phi_b); T is None
+    when alpha + phi_b >= 90 deg (no sliding)."""
+    poly, y_I = section.part_above(z)
+    W, _ = _weight(section, poly, gamma_m)
+    ang = section.joint_slope_deg + phi_b_deg
+    return W, y_I, (None if ang >= 90 else _tan(ang))
+
+
 def sliding_water_height(section: WallSection, z: float, phi_b_deg: float, gamma_m: float) -> float:
     """h_w [m] at which the part above the bed joint leaving the outer face at z slides
     (ref. 5.4): h_w = y_I + sqrt(2 W tan(alpha + phi_b) / (gamma_w (1 - tan(lambda2)
     tan(alpha + phi_b)))); inf if alpha + phi_b >= 90 deg or the water's vertical share
     grows faster than its push."""
-    poly, y_I = section.part_above(z)
-    W, _ = _weight(section, poly, gamma_m)
-    ang = section.joint_slope_deg + phi_b_deg
-    if ang >= 90:
+    W, y_I, T = _sliding_part(section, z, phi_b_deg, gamma_m)
+    if T is None:
         return math.inf
-    T = _tan(ang)
     den = GAMMA_W * (1 - _tan(section.batter_inner_deg) * T)
     if den <= 0:
         return math.inf
@@ -348,12 +355,9 @@ def _backfill_height(section: WallSection, z: float, slope: float | None, balanc
 def sliding_fill_height(section, z, phi_b_deg, gamma_m, gamma_s, ka, delta_deg) -> float:
     """H_b [m] at which the part above the bed joint at z slides under the fill's thrust
     (ref. 5.4 with the thrust of 5.3): H = (W + V) tan(alpha + phi_b)."""
-    poly, y_I = section.part_above(z)
-    W, _ = _weight(section, poly, gamma_m)
-    ang = section.joint_slope_deg + phi_b_deg
-    if ang >= 90:
+    W, y_I, T = _sliding_part(section, z, phi_b_deg, gamma_m)
+    if T is None:
         return math.inf
-    T = _tan(ang)
     w = math.radians(delta_deg + section.batter_inner_deg)
     if math.cos(w) - math.sin(w) * T <= 0:
         return math.inf
@@ -583,3 +587,16 @@ def water_band(sections: Mapping[str, WallSection], phi_b_deg: float, gamma_m_va
                 label = f"{name} gamma_m={g:g} alpha={s.joint_slope_deg:g}"
                 out[label] = water_limit_equilibrium(s, phi_b_deg, g, **kwargs)
     return band(out)
+
+
+def section_above_fixed_course(section: WallSection, course_height_m: float) -> tuple[WallSection, float]:
+    """The part of ``section`` above the bed joint on top of a fixed first course of height
+    ``course_height_m`` [m], as a wall of its own (its toe where that joint meets the outer
+    face), and that toe's height y [m] above the base. The joint at counter-slope alpha
+    leaves the outer face at y = c / (tan(lambda1) sin(alpha) + cos(alpha)) (pure geometry;
+    S-OET 5.1 fixes the first course, so the DEM's mechanisms start there)."""
+    a = math.radians(section.joint_slope_deg)
+    t1, t2 = _tan(section.batter_outer_deg), _tan(section.batter_inner_deg)
+    y = course_height_m / (t1 * math.sin(a) + math.cos(a))
+    return WallSection(section.height_m - y, section.base_width_m - y * (t1 + t2), section.batter_outer_deg,
+                       section.batter_inner_deg, section.joint_slope_deg), y
