@@ -72,15 +72,60 @@ def back_fit_band(e: dict) -> list:
 
 
 def band_table(walls: dict) -> list[str]:
-    rows = ["| wall | geometry | gamma_m (kN/m3) | alpha (deg) | limit equilibrium h_w (m) | DEM h_w (m), mode |",
-            "|---|---|---|---|---|---|"]
+    rows = ["| wall | geometry | gamma_m (kN/m3) | alpha (deg) | limit equilibrium h_w (m) | DEM h_w (m), mode, "
+            "level (m) | limit equilibrium above the fixed first course (m), mode | DEM minus that (increment) |",
+            "|---|---|---|---|---|---|---|---|"]
     for w, e in walls.items():
         for c in e["band"]["corners"]:
             dem = (f"{_f(c['dem_height_m'])} {c['dem_mode'] or ''}" if "dem_height_m" in c else "")
+            if c.get("dem_mechanism_level_m") is not None:
+                dem += f", {c['dem_mechanism_level_m']:.3f}"
             le = _f(c["limit_equilibrium_height_m"]) + (" (stands)" if c["limit_equilibrium_stands_to_crest"] else "")
+            fx = c.get("limit_equilibrium_above_fixed_course")
+            own = f"{_f(fx['critical_height_m'])} {fx['mode']}" if fx else ""
+            diff = c.get("dem_minus_fixed_course_le_m")
+            below = diff is not None and diff < -1e-3
+            gap = (f"{'**' if below else ''}{_f(diff, '+.3f')}{' below**' if below else ''} "
+                   f"({c['increment_m']:.4f})" if fx else "")
             rows.append(f"| {w} | {c['geometry']} | {c['unit_weight_kN_m3']:g} | {c['joint_slope_deg']:.2f} | "
-                        f"{le} | {dem} |")
+                        f"{le} | {dem} | {own} | {gap} |")
     return rows
+
+
+def below_own_le_text(walls: dict) -> list[str]:
+    """The paragraph under the band table on the engine check away from the default settings."""
+    below = band_below_own_le(walls)
+    runs = sum(1 for e in walls.values() for c in e["band"]["corners"] if "dem_minus_fixed_course_le_m" in c)
+    if not runs:
+        return []
+    head = (f"Engine check at the band corners: in {len(below)} of {runs} band runs the DEM fails below the limit "
+            "equilibrium of its own boundary condition" + (":" if below else "."))
+    return [head, "", *[f"- {b}" for b in below], ""] + ([BELOW_WHY, ""] if below else [])
+
+
+BELOW_WHY = (
+    "Likely reason (not tuned away): the limit equilibrium above the fixed course searches toppling about the "
+    "outer face only, along staircases of slope m = 2 h_block / l_block = 0.83, and sliding on bed joints. A "
+    "discrete wall can also rotate about a block corner inside the face or open a steeper staircase through "
+    "the stagger, which are mechanisms the reconstruction does not search, so its height is an upper bound "
+    "for those corners rather than the exact rigid-block answer. Levels and pivots of the DEM mechanism are "
+    "in drystone.json (`band.corners[].dem_mechanism_level_m`, `dem_pivot_m`).")
+
+
+def band_below_own_le(walls: dict) -> list[str]:
+    """The band corners where the DEM failed below the limit equilibrium of its own boundary
+    condition (more than 1 mm under it), one sentence each."""
+    out = []
+    for w, e in walls.items():
+        for c in e["band"]["corners"]:
+            d = c.get("dem_minus_fixed_course_le_m")
+            if d is not None and d < -1e-3:
+                out.append(f"{w} ({c['geometry']}, gamma_m {c['unit_weight_kN_m3']:g}, alpha "
+                           f"{c['joint_slope_deg']:.2f}): DEM {c['dem_height_m']:.3f} m {c['dem_mode']} at "
+                           f"{_f(c.get('dem_mechanism_level_m'))} m vs {c['limit_equilibrium_above_fixed_course']['critical_height_m']:.3f} m "
+                           f"{c['limit_equilibrium_above_fixed_course']['mode']} ({d:+.3f} m, increment "
+                           f"{c['increment_m']:.4f} m)")
+    return out
 
 
 def checks(walls: dict) -> list[dict]:
@@ -139,14 +184,20 @@ def write_report(rep: dict, out_dir: Path) -> Path:
              "Level: height above the toe of the bed joint the mechanism forms on (sliding) or of the toe it "
              "rotates about (toppling), at the outer face. The DEM's first course is fixed, so its lowest "
              "possible joint is the top of that course (0.125 m); the limit equilibrium searches from the base.", "",
-             *checks_markdown(checks(walls)), "", "## Solver convergence", "", *convergence_table(walls), "",
+             *checks_markdown(checks(walls)), "", "## Solver convergence", "",
+             "The critical height is resolved to one load increment (1 % of h), so a change of 0.00 % means "
+             "the halved step and doubled sweeps fail at the same increment, not that the height is exact.", "",
+             *convergence_table(walls), "",
              "## Band over the missing data", "",
              "Limit equilibrium (yield design) at every corner of the box: both geometries x gamma_m 18 and 22 "
              "kN/m3 x alpha 0 and 8.5 deg (limestone walls; V5S's alpha is found). The DEM ran at the corners "
              "where the limit equilibrium is lowest, highest, and highest with the back-fit geometry; the band in the results table is that DEM pair "
              "(\"> h (stands)\": the wall stood with water at its crest; a limit-equilibrium height above h is the "
              "balance extended past the crest, marked \"stands\"). Band source: "
-             f"{next(iter(walls.values()))['band']['source']}.", "", *band_table(walls), "",
+             f"{next(iter(walls.values()))['band']['source']}. In the JSON, `band_m` is [lowest, highest] DEM "
+             "critical height; an upper value `null` (with `band.hi_stands_to_crest` true, see `band.band_note`) "
+             "means a corner stood with water at its crest, so the band is open at the top.", "",
+             *band_table(walls), "", *below_own_le_text(walls),
              "## Time", "",
              f"Five walls plus their convergence runs: {t['walls_and_convergence_wall_s']:.0f} s wall, "
              f"{t['walls_and_convergence_cpu_s']:.0f} s CPU. Band runs: {t['band_wall_s']:.0f} s wall, "
