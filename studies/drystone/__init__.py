@@ -54,7 +54,10 @@ def _compare_text(r: dict) -> str:
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     import sys
 
+    from ..options import writable_folder
     from .validate import validate_drystone
+    writable_folder("docs", opts.docs)
+    writable_folder("docs", str(Path(opts.docs) / "drystone"))
     rep = validate_drystone(case, out_dir=Path(opts.docs), walls=opts.walls, band=opts.band,
                             convergence=not opts.no_convergence,
                             log=None if opts.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True)))
@@ -67,6 +70,9 @@ def _walls(text: str) -> list[str]:
     for w in words or [text]:
         if w not in WALLS:
             raise InvalidParameter("walls", w, " | ".join(WALLS))
+    if len(set(words)) < len(words):
+        raise InvalidParameter("walls", text, "a comma list of distinct walls of " + ", ".join(WALLS),
+                               "a wall is named twice")
     return words
 
 
@@ -79,7 +85,7 @@ _CASE_OPTIONS = (
            parse=number("alpha", 0, 30, lo_open=False, unit="deg")),
     Option("--water-direction", "normal to the current face, or fixed at its initial normal (the paper's) (normal)",
            key="water_direction", choices=DIRECTIONS),
-    Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 0, 2e-3, unit="s")),
+    Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 1e-5, 2e-3, lo_open=False, unit="s")),
 )
 
 COMPARE = Command(
