@@ -483,18 +483,18 @@ def _check_common(method: str, phi_b_deg: float, gamma_m: float, staircase_m: fl
     if method not in METHODS:
         raise InvalidParameter("method", method, " | ".join(repr(m) for m in METHODS))
     require_number("phi_b_deg", phi_b_deg, 0.0, 90.0, unit="deg")
-    require_number("gamma_m_kN_m3", gamma_m, 0.0, None, unit="kN/m3")
+    require_number("unit_weight_kN_m3", gamma_m, 0.0, None, unit="kN/m3")
     require_number("staircase_m", staircase_m, 0.0, 10.0, lo_open=False)
     require_number("course_height_m", course_height_m, 0.0, None, unit="m")
 
 
-def water_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_kN_m3: float,
+def water_limit_equilibrium(section: WallSection, phi_b_deg: float, unit_weight_kN_m3: float,
                             staircase_m: float = 0.83, method: str = "yield-design",
                             course_height_m: float = BLOCK_HEIGHT_M) -> LimitEquilibrium:
     """Critical water height h_w [m] above the toe level and the mechanism (case A).
 
     phi_b_deg       block-block friction angle phi_b [deg] (ref. 4: tilt-test angle)
-    gamma_m_kN_m3   unit weight of the dry masonry, voids included [kN/m3]
+    unit_weight_kN_m3   unit weight of the dry masonry, voids included [kN/m3]
     staircase_m     m = tan(theta_max) of the steepest stepped line, 2 h_block / l_block
                     (ref. 2.3 [A]: 2 x 0.125 / 0.30 = 0.83); "yield-design" only
     method          "bed-joints" (joints at z_k = k course_height_m, theta = -alpha) or
@@ -504,15 +504,15 @@ def water_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_kN_m
 
     Sliding: ref. 5.4 (closed form); toppling: ref. 5.5 (cubic in h_w - y_I).
     """
-    _check_common(method, phi_b_deg, gamma_m_kN_m3, staircase_m, course_height_m)
-    g = gamma_m_kN_m3
+    _check_common(method, phi_b_deg, unit_weight_kN_m3, staircase_m, course_height_m)
+    g = unit_weight_kN_m3
     found = _search(section, method, course_height_m, staircase_m,
                     lambda z: sliding_water_height(section, z, phi_b_deg, g),
                     lambda z, t: toppling_water_height(section, z, t, g))
     return _result(section, method, "water", *found)
 
 
-def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_kN_m3: float,
+def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, unit_weight_kN_m3: float,
                                gamma_s_kN_m3: float, phi_fill_deg: float, delta_deg: float,
                                beta_deg: float, staircase_m: float = 0.73, method: str = "yield-design",
                                course_height_m: float = 0.12) -> LimitEquilibrium:
@@ -529,10 +529,10 @@ def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_k
     staircase_m    ref. 3.3 [A]: 2 x 0.12 / 0.33 = 0.73; course_height_m: ref. 3.1 blocks 0.12 m
     H_b is a vertical height (equal to the length along a vertical inner face).
     """
-    _check_common(method, phi_b_deg, gamma_m_kN_m3, staircase_m, course_height_m)
+    _check_common(method, phi_b_deg, unit_weight_kN_m3, staircase_m, course_height_m)
     require_number("gamma_s_kN_m3", gamma_s_kN_m3, 0.0, None, unit="kN/m3")
     ka = coulomb_ka(phi_fill_deg, delta_deg, beta_deg, section.batter_inner_deg)
-    args = (gamma_m_kN_m3, gamma_s_kN_m3, ka, delta_deg)
+    args = (unit_weight_kN_m3, gamma_s_kN_m3, ka, delta_deg)
     found = _search(section, method, course_height_m, staircase_m,
                     lambda z: sliding_fill_height(section, z, phi_b_deg, *args),
                     lambda z, t: toppling_fill_height(section, z, t, *args), n_z=100, n_theta=13,

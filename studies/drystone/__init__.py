@@ -79,9 +79,14 @@ def _walls(text: str) -> list[str]:
 _CASE_OPTIONS = (
     Option("--geometry", "back-fit (reference 2.3) or disk-count (reference 6) (back-fit)", key="geometry",
            choices=GEOMETRIES),
-    Option("--gamma-m", "masonry unit weight [kN/m3] (20, assumed)", key="unit_weight_kN_m3",
+    Option("--unit-weight", "masonry unit weight gamma_m [kN/m3] (20, assumed)", key="unit_weight_kN_m3",
+           parse=number("unit-weight", 5, 40, unit="kN/m3")),
+    Option("--joint-slope", "joint counter-slope alpha [deg] (the wall's: V5S 8.53, others 0 assumed)",
+           key="joint_slope_deg", parse=number("joint-slope", 0, 30, lo_open=False, unit="deg")),
+    # the first spellings, still read (the paper's symbols)
+    Option("--gamma-m", "old name of --unit-weight", key="unit_weight_kN_m3",
            parse=number("gamma-m", 5, 40, unit="kN/m3")),
-    Option("--alpha", "joint counter-slope [deg] (the wall's: V5S 8.53, others 0 assumed)", key="joint_slope_deg",
+    Option("--alpha", "old name of --joint-slope", key="joint_slope_deg",
            parse=number("alpha", 0, 30, lo_open=False, unit="deg")),
     Option("--water-direction", "normal to the current face, or fixed at its initial normal (the paper's) (normal)",
            key="water_direction", choices=DIRECTIONS),
@@ -108,7 +113,7 @@ VALIDATE = Command(
              Option("--band", "dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
                     choices=("dem", "le"), default="dem"),
              Option("--no-convergence", "skip the dt / 2, 2 x iterations repeat", switch=True),
-             *_CASE_OPTIONS[3:],
+             *_CASE_OPTIONS[5:],
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs"))))
 

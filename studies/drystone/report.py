@@ -168,7 +168,7 @@ def write_report(rep: dict, out_dir: Path) -> Path:
              "Paper: Oetomo et al. (PFC2D), Tables 2-3; site values Villemus et al. (2007). Data and tags: "
              "`studies/drystone/reference.json` from ../shared/reference/drystone-walls.md.", "",
              f"Engine `dem2d.blocks` (pymunk {rep['versions'].get('pymunk', '?')}): courses of "
-             f"{s['block_m'][0]:g} x {s['block_m'][1]:g} m rigid blocks with staggered joints, first course fixed, "
+             f"{s['block_length_m']:g} x {s['block_height_m']:g} m rigid blocks with staggered joints, first course fixed, "
              f"dt {s['dt_s']:g} s, {s['iterations']} sweeps, collision slop {s['collision_slop_m']:g} m, friction "
              f"tan(phi_b) on every joint (pair value; pymunk's product rule accounted for), water raised by {100 * s['increment_fraction']:g} % of h per "
              f"increment, pressure normal to the current face ({s['water_direction']}). **{rep['note']}.**", "",
@@ -180,7 +180,8 @@ def write_report(rep: dict, out_dir: Path) -> Path:
              "## Results (default geometry: back-fit)", "", *main_table(walls), "",
              "The DEM fails at the first load increment at or above the limit equilibrium of the part above its "
              "fixed first course, so \"DEM minus that\" lies between 0 and one increment (1 % of h) when the "
-             "engine reproduces rigid-block statics.", "",
+             "engine reproduces rigid-block statics. This holds at the default settings checked here; for the band "
+             "corners see the same column under \"Band over the missing data\".", "",
              "Level: height above the toe of the bed joint the mechanism forms on (sliding) or of the toe it "
              "rotates about (toppling), at the outer face. The DEM's first course is fixed, so its lowest "
              "possible joint is the top of that course (0.125 m); the limit equilibrium searches from the base.", "",
