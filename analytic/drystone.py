@@ -279,17 +279,24 @@ def _weight(section: WallSection, poly: list[Point], gamma_m: float) -> tuple[fl
     return gamma_m * A, xg
 
 
+def _sliding_part(section: WallSection, z: float, phi_b_deg: float, gamma_m: float):
+    """The part above the bed joint at z for the sliding balances (ref. 5.4): its weight W
+    [kN/m], the joint's y_I [m] at the inner face and T = tan(alpha + phi_b); T is None
+    when alpha + phi_b >= 90 deg (no sliding)."""
+    poly, y_I = section.part_above(z)
+    W, _ = _weight(section, poly, gamma_m)
+    ang = section.joint_slope_deg + phi_b_deg
+    return W, y_I, (None if ang >= 90 else _tan(ang))
+
+
 def sliding_water_height(section: WallSection, z: float, phi_b_deg: float, gamma_m: float) -> float:
     """h_w [m] at which the part above the bed joint leaving the outer face at z slides
     (ref. 5.4): h_w = y_I + sqrt(2 W tan(alpha + phi_b) / (gamma_w (1 - tan(lambda2)
     tan(alpha + phi_b)))); inf if alpha + phi_b >= 90 deg or the water's vertical share
     grows faster than its push."""
-    poly, y_I = section.part_above(z)
-    W, _ = _weight(section, poly, gamma_m)
-    ang = section.joint_slope_deg + phi_b_deg
-    if ang >= 90:
+    W, y_I, T = _sliding_part(section, z, phi_b_deg, gamma_m)
+    if T is None:
         return math.inf
-    T = _tan(ang)
     den = GAMMA_W * (1 - _tan(section.batter_inner_deg) * T)
     if den <= 0:
         return math.inf
@@ -348,12 +355,9 @@ def _backfill_height(section: WallSection, z: float, slope: float | None, balanc
 def sliding_fill_height(section, z, phi_b_deg, gamma_m, gamma_s, ka, delta_deg) -> float:
     """H_b [m] at which the part above the bed joint at z slides under the fill's thrust
     (ref. 5.4 with the thrust of 5.3): H = (W + V) tan(alpha + phi_b)."""
-    poly, y_I = section.part_above(z)
-    W, _ = _weight(section, poly, gamma_m)
-    ang = section.joint_slope_deg + phi_b_deg
-    if ang >= 90:
+    W, y_I, T = _sliding_part(section, z, phi_b_deg, gamma_m)
+    if T is None:
         return math.inf
-    T = _tan(ang)
     w = math.radians(delta_deg + section.batter_inner_deg)
     if math.cos(w) - math.sin(w) * T <= 0:
         return math.inf
@@ -479,18 +483,18 @@ def _check_common(method: str, phi_b_deg: float, gamma_m: float, staircase_m: fl
     if method not in METHODS:
         raise InvalidParameter("method", method, " | ".join(repr(m) for m in METHODS))
     require_number("phi_b_deg", phi_b_deg, 0.0, 90.0, unit="deg")
-    require_number("gamma_m_kN_m3", gamma_m, 0.0, None, unit="kN/m3")
+    require_number("unit_weight_kN_m3", gamma_m, 0.0, None, unit="kN/m3")
     require_number("staircase_m", staircase_m, 0.0, 10.0, lo_open=False)
     require_number("course_height_m", course_height_m, 0.0, None, unit="m")
 
 
-def water_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_kN_m3: float,
+def water_limit_equilibrium(section: WallSection, phi_b_deg: float, unit_weight_kN_m3: float,
                             staircase_m: float = 0.83, method: str = "yield-design",
                             course_height_m: float = BLOCK_HEIGHT_M) -> LimitEquilibrium:
     """Critical water height h_w [m] above the toe level and the mechanism (case A).
 
     phi_b_deg       block-block friction angle phi_b [deg] (ref. 4: tilt-test angle)
-    gamma_m_kN_m3   unit weight of the dry masonry, voids included [kN/m3]
+    unit_weight_kN_m3   unit weight of the dry masonry, voids included [kN/m3]
     staircase_m     m = tan(theta_max) of the steepest stepped line, 2 h_block / l_block
                     (ref. 2.3 [A]: 2 x 0.125 / 0.30 = 0.83); "yield-design" only
     method          "bed-joints" (joints at z_k = k course_height_m, theta = -alpha) or
@@ -500,15 +504,15 @@ def water_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_kN_m
 
     Sliding: ref. 5.4 (closed form); toppling: ref. 5.5 (cubic in h_w - y_I).
     """
-    _check_common(method, phi_b_deg, gamma_m_kN_m3, staircase_m, course_height_m)
-    g = gamma_m_kN_m3
+    _check_common(method, phi_b_deg, unit_weight_kN_m3, staircase_m, course_height_m)
+    g = unit_weight_kN_m3
     found = _search(section, method, course_height_m, staircase_m,
                     lambda z: sliding_water_height(section, z, phi_b_deg, g),
                     lambda z, t: toppling_water_height(section, z, t, g))
     return _result(section, method, "water", *found)
 
 
-def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_kN_m3: float,
+def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, unit_weight_kN_m3: float,
                                gamma_s_kN_m3: float, phi_fill_deg: float, delta_deg: float,
                                beta_deg: float, staircase_m: float = 0.73, method: str = "yield-design",
                                course_height_m: float = 0.12) -> LimitEquilibrium:
@@ -525,10 +529,10 @@ def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, gamma_m_k
     staircase_m    ref. 3.3 [A]: 2 x 0.12 / 0.33 = 0.73; course_height_m: ref. 3.1 blocks 0.12 m
     H_b is a vertical height (equal to the length along a vertical inner face).
     """
-    _check_common(method, phi_b_deg, gamma_m_kN_m3, staircase_m, course_height_m)
+    _check_common(method, phi_b_deg, unit_weight_kN_m3, staircase_m, course_height_m)
     require_number("gamma_s_kN_m3", gamma_s_kN_m3, 0.0, None, unit="kN/m3")
     ka = coulomb_ka(phi_fill_deg, delta_deg, beta_deg, section.batter_inner_deg)
-    args = (gamma_m_kN_m3, gamma_s_kN_m3, ka, delta_deg)
+    args = (unit_weight_kN_m3, gamma_s_kN_m3, ka, delta_deg)
     found = _search(section, method, course_height_m, staircase_m,
                     lambda z: sliding_fill_height(section, z, phi_b_deg, *args),
                     lambda z, t: toppling_fill_height(section, z, t, *args), n_z=100, n_theta=13,
@@ -583,3 +587,16 @@ def water_band(sections: Mapping[str, WallSection], phi_b_deg: float, gamma_m_va
                 label = f"{name} gamma_m={g:g} alpha={s.joint_slope_deg:g}"
                 out[label] = water_limit_equilibrium(s, phi_b_deg, g, **kwargs)
     return band(out)
+
+
+def section_above_fixed_course(section: WallSection, course_height_m: float) -> tuple[WallSection, float]:
+    """The part of ``section`` above the bed joint on top of a fixed first course of height
+    ``course_height_m`` [m], as a wall of its own (its toe where that joint meets the outer
+    face), and that toe's height y [m] above the base. The joint at counter-slope alpha
+    leaves the outer face at y = c / (tan(lambda1) sin(alpha) + cos(alpha)) (pure geometry;
+    S-OET 5.1 fixes the first course, so the DEM's mechanisms start there)."""
+    a = math.radians(section.joint_slope_deg)
+    t1, t2 = _tan(section.batter_outer_deg), _tan(section.batter_inner_deg)
+    y = course_height_m / (t1 * math.sin(a) + math.cos(a))
+    return WallSection(section.height_m - y, section.base_width_m - y * (t1 + t2), section.batter_outer_deg,
+                       section.batter_inner_deg, section.joint_slope_deg), y

@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.inputs import _range_text, require_number
 
 from .study import Option
 
@@ -35,15 +35,21 @@ def count(name: str):
     return parse
 
 
-def number_list(name: str, scale: float = 1.0):
-    """'0.3,0.5,0.7' -> (0.3, 0.5, 0.7) (times ``scale``); numbers >= 0."""
+def number_list(name: str, scale: float = 1.0, *, lo=None, hi=None, unit=""):
+    """'0.3,0.5,0.7' -> (0.3, 0.5, 0.7) (times ``scale``); numbers >= 0, or (``lo``, ``hi``
+    given) each in that open range, the range the case record itself checks."""
+    valid = "comma-separated numbers >= 0" if lo is None and hi is None else \
+        "comma-separated numbers in " + _range_text(lo, hi, True, True, unit)
+
     def parse(text: str) -> tuple[float, ...]:
         try:
             vals = tuple(float(x) * scale for x in text.split(",") if x.strip())
         except ValueError:
-            raise InvalidParameter(name, text, "comma-separated numbers") from None
-        if not vals or any(not math.isfinite(v) or v < 0 for v in vals):
-            raise InvalidParameter(name, text, "comma-separated numbers >= 0")
+            raise InvalidParameter(name, text, valid) from None
+        bad = (lambda v: v < 0) if lo is None and hi is None else \
+            (lambda v: (lo is not None and v <= lo) or (hi is not None and v >= hi))
+        if not vals or any(not math.isfinite(v) or bad(v) for v in vals):
+            raise InvalidParameter(name, text, valid)
         return vals
     parse.__name__ = name
     return parse
@@ -96,6 +102,21 @@ def scheduler_address(name: str):
         return text
     parse.__name__ = name
     return parse
+
+
+def writable_folder(name: str, text: str) -> Path:
+    """Make the folder ``text`` (and its parents) and write a probe file in it, so a long
+    run never ends on a folder it cannot write; InvalidParameter naming ``name`` if not."""
+    path = Path(text)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = path / f".wallsim-probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as err:
+        raise InvalidParameter(name, text, "a folder that can be created and written",
+                               err.strerror or type(err).__name__) from None
+    return path
 
 
 #: the recording flags of the 3D runs

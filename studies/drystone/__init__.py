@@ -54,7 +54,10 @@ def _compare_text(r: dict) -> str:
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     import sys
 
+    from ..options import writable_folder
     from .validate import validate_drystone
+    writable_folder("docs", opts.docs)
+    writable_folder("docs", str(Path(opts.docs) / "drystone"))
     rep = validate_drystone(case, out_dir=Path(opts.docs), walls=opts.walls, band=opts.band,
                             convergence=not opts.no_convergence,
                             log=None if opts.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True)))
@@ -67,19 +70,22 @@ def _walls(text: str) -> list[str]:
     for w in words or [text]:
         if w not in WALLS:
             raise InvalidParameter("walls", w, " | ".join(WALLS))
+    if len(set(words)) < len(words):
+        raise InvalidParameter("walls", text, "a comma list of distinct walls of " + ", ".join(WALLS),
+                               "a wall is named twice")
     return words
 
 
 _CASE_OPTIONS = (
     Option("--geometry", "back-fit (reference 2.3) or disk-count (reference 6) (back-fit)", key="geometry",
            choices=GEOMETRIES),
-    Option("--gamma-m", "masonry unit weight [kN/m3] (20, assumed)", key="unit_weight_kN_m3",
-           parse=number("gamma-m", 5, 40, unit="kN/m3")),
-    Option("--alpha", "joint counter-slope [deg] (the wall's: V5S 8.53, others 0 assumed)", key="joint_slope_deg",
-           parse=number("alpha", 0, 30, lo_open=False, unit="deg")),
+    Option("--unit-weight", "masonry unit weight gamma_m [kN/m3] (20, assumed)", key="unit_weight_kN_m3",
+           parse=number("unit-weight", 5, 40, unit="kN/m3")),
+    Option("--joint-slope", "joint counter-slope alpha [deg] (the wall's: V5S 8.53, others 0 assumed)",
+           key="joint_slope_deg", parse=number("joint-slope", 0, 30, lo_open=False, unit="deg")),
     Option("--water-direction", "normal to the current face, or fixed at its initial normal (the paper's) (normal)",
            key="water_direction", choices=DIRECTIONS),
-    Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 0, 2e-3, unit="s")),
+    Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 1e-5, 2e-3, lo_open=False, unit="s")),
 )
 
 COMPARE = Command(
@@ -102,7 +108,7 @@ VALIDATE = Command(
              Option("--band", "dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
                     choices=("dem", "le"), default="dem"),
              Option("--no-convergence", "skip the dt / 2, 2 x iterations repeat", switch=True),
-             *_CASE_OPTIONS[3:],
+             *_CASE_OPTIONS[5:],
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs"))))
 

@@ -68,7 +68,8 @@ class DrystoneCase:
         if self.base_width_m is not None:
             require_number("base_width_m", self.base_width_m, self.block_length_m, 10.0, unit="m")
         require_number("increment_fraction", self.increment_fraction, 0.0, 0.2, unit="")
-        require_number("dt", self.dt, 0.0, 2e-3, unit="s")
+        # below 1e-5 s a wall needs > 10^7 steps: no run would end
+        require_number("dt", self.dt, 1e-5, 2e-3, lo_open=False, unit="s")
         if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
             raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
         require_number("block_length_m", self.block_length_m, 0.05, 2.0, unit="m")

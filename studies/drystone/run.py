@@ -16,18 +16,6 @@ RIGID_NOTE = ("rigid-block kinematics: contacts have no stiffness, so displaceme
               "numerical, not physical; do not set them against the site sensors")
 
 
-def section_above_fixed_course(section, course_height: float):
-    """The part of ``section`` above the bed joint on top of the first course, as a wall
-    of its own (its toe where that joint meets the outer face), and that toe's height
-    [m]. The DEM fixes the first course (S-OET 5.1), so its mechanisms start there."""
-    from analytic.drystone import WallSection
-    a = math.radians(section.joint_slope_deg)
-    t1, t2 = math.tan(math.radians(section.batter_outer_deg)), math.tan(math.radians(section.batter_inner_deg))
-    y = course_height / (t1 * math.sin(a) + math.cos(a))
-    return WallSection(section.height_m - y, section.base_width_m - y * (t1 + t2), section.batter_outer_deg,
-                       section.batter_inner_deg, section.joint_slope_deg), y
-
-
 def _le_record(le, shift: float = 0.0) -> dict:
     return {"critical_height_m": le.critical_height_m + shift, "mode": le.mode,
             "mechanism_level_m": le.mechanism_level_m + shift, "sliding_height_m": le.sliding_height_m + shift,
@@ -40,7 +28,7 @@ def limit_equilibrium(case: DrystoneCase) -> dict:
     reconstruction (reference 5, mechanisms from the base), the bed-joint variant, and the
     yield design of the part above the fixed first course (the DEM's own boundary
     condition; heights shifted back to the toe level)."""
-    from analytic.drystone import water_limit_equilibrium
+    from analytic.drystone import section_above_fixed_course, water_limit_equilibrium
     sec, phi, g, m = case.section(), case.phi_b_deg, case.unit_weight_kN_m3, staircase_m(case)
     upper, y = section_above_fixed_course(sec, case.block_height_m)
     return {"yield-design": _le_record(water_limit_equilibrium(sec, phi, g, staircase_m=m)),

@@ -59,9 +59,19 @@ def band(case: DrystoneCase, dem: bool, log=None) -> dict:
     picks = sorted({les.index(min(les)), max(back, key=lambda i: les[i]), les.index(max(les))})
     for i in picks:
         _, res, seconds, cpu = run_dem(corners[i])
+        m, fx = res.mechanism, limit_equilibrium(corners[i])["above-fixed-course"]
         rows[i] |= {"dem_height_m": res.critical_height_m if res.failed else None,
-                    "dem_mode": res.mechanism.mode if res.mechanism else None,
-                    "dem_stands_to_crest": not res.failed, "wall_time_s": seconds, "cpu_time_s": cpu}
+                    "dem_mode": m.mode if m else None, "dem_mechanism_level_m": m.level_m if m else None,
+                    "dem_pivot_m": list(m.pivot) if m and m.pivot is not None else None,
+                    # > 0: the toppling pivot lies inside the outer face (the limit equilibrium's is on it)
+                    "dem_pivot_inside_outer_face_m": m.pivot[0] - corners[i].section().x_outer(m.pivot[1])
+                    if m and m.mode == "toppling" and m.pivot is not None else None,
+                    "dem_stands_to_crest": not res.failed,
+                    "limit_equilibrium_above_fixed_course": fx,
+                    "dem_minus_fixed_course_le_m": (res.critical_height_m - fx["critical_height_m"])
+                    if res.failed else None,
+                    "increment_m": corners[i].section().height_m * corners[i].increment_fraction,
+                    "wall_time_s": seconds, "cpu_time_s": cpu}
         if log:
             log(f"  band corner {rows[i]['geometry']}, gamma {rows[i]['unit_weight_kN_m3']:g}, alpha "
                 f"{rows[i]['joint_slope_deg']:g}: DEM {rows[i]['dem_height_m']} ({rows[i]['dem_mode']})")
@@ -69,7 +79,9 @@ def band(case: DrystoneCase, dem: bool, log=None) -> dict:
     lo = min(v for v in dem_vals if v is not None) if any(v is not None for v in dem_vals) else None
     hi = None if any(v is None for v in dem_vals) else max(dem_vals)
     out |= {"band_m": [lo, hi], "source": "DEM at the corners of lowest, highest and highest back-fit limit equilibrium",
-            "hi_stands_to_crest": hi is None}
+            "hi_stands_to_crest": hi is None,
+            "band_note": "band_m = [lowest, highest] DEM critical height over the corners run; an upper value "
+                         "null means at least one corner stood with water at its crest (no failure up to h)"}
     return out
 
 
@@ -153,6 +165,7 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
     from .report import write_report
 
     t0, c0 = time.perf_counter(), time.process_time()
+    git = git_revision()        # before the run writes its figures (which would read as "+dirty")
     fig_dir = out_dir / "drystone"
     fig_dir.mkdir(parents=True, exist_ok=True)
     results = {}
@@ -162,9 +175,9 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
     rep = {"case": "A", "study": "drystone", "walls": {w: entry(r) for w, r in results.items()},
            "settings": {"geometry": case.geometry, "dt_s": case.dt, "iterations": case.iterations,
                         "water_direction": case.water_direction, "increment_fraction": case.increment_fraction,
-                        "block_m": [case.block_length_m, case.block_height_m], "collision_slop_m": 1e-4,
+                        "block_length_m": case.block_length_m, "block_height_m": case.block_height_m, "collision_slop_m": 1e-4,
                         "unit_weight_kN_m3": case.unit_weight_kN_m3},
-           "note": RIGID_NOTE, "git": git_revision(), "versions": package_versions(),
+           "note": RIGID_NOTE, "git": git, "versions": package_versions(),
            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
            "wall_time_s": time.perf_counter() - t0, "cpu_time_s": time.process_time() - c0}
     from .report import back_fit_band

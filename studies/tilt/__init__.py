@@ -40,16 +40,17 @@ class TiltCase:
 
     def __post_init__(self):
         for f in self.frictions_deg:
-            require_number("friction", f, 0.0, 80.0, unit="deg")
+            require_number("frictions_deg", f, 0.0, 80.0, unit="deg")
         for w in self.slender_widths_m:
-            require_number("slender_width", w, 0.0, self.slender_height_m, unit="m")
-        require_number("slender_height", self.slender_height_m, 0.0, 5.0, unit="m")
-        require_number("block_length", self.block_length_m, 0.0, 5.0, unit="m")
-        require_number("block_height", self.block_height_m, 0.0, 5.0, unit="m")
-        require_number("dt", self.dt, 0.0, 2e-3, unit="s")
+            require_number("slender_widths_m", w, 0.0, self.slender_height_m, unit="m")
+        require_number("slender_height_m", self.slender_height_m, 0.0, 5.0, unit="m")
+        require_number("block_length_m", self.block_length_m, 0.0, 5.0, unit="m")
+        require_number("block_height_m", self.block_height_m, 0.0, 5.0, unit="m")
+        # below 1e-5 s a tilt search needs > 10^7 steps: no run would end
+        require_number("dt", self.dt, 1e-5, 2e-3, lo_open=False, unit="s")
         if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
             raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
-        require_number("resolution", self.resolution_deg, 0.0, 1.0, unit="deg")
+        require_number("resolution_deg", self.resolution_deg, 0.0, 1.0, unit="deg")
 
 
 def tilt_tests(case: TiltCase) -> dict:
@@ -114,8 +115,8 @@ CALIBRATE = Command(
                 "(pymunk multiplies shape frictions). Example: wallsim calibrate tilt --friction 36,28.5",
     default_case=TiltCase, run=_calibrate, text=_text, seed_key=None,
     options=(Option("--friction", "friction angles to test [deg] (36,28.5,35,25)", key="frictions_deg",
-                    parse=number_list("friction")),
-             Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 0, 2e-3, unit="s"))))
+                    parse=number_list("friction", lo=0.0, hi=80.0, unit="deg")),
+             Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 1e-5, 2e-3, lo_open=False, unit="s"))))
 
 STUDY = Study(name="tilt", title="Tilt tests of the rigid dry-stone blocks (slide and toppling angles)",
               commands=(CALIBRATE,))

@@ -51,6 +51,17 @@ BAD = [
     ["theory", "--phi", "95"],
     ["dsm", "--delta", "-30"],
     ["dsm", "--theta-r", "abc"],
+    ["calibrate", "tilt", "--friction", "nan"],
+    ["calibrate", "tilt", "--friction", "120"],
+    ["calibrate", "tilt", "--set", "dt=1e-9"],              # would never end
+    ["calibrate", "tilt", "--dt", "1e-9"],
+    ["calibrate", "tilt", "--set", "resolution_deg=0"],     # named as typed, not "resolution"
+    ["calibrate", "tilt", "--set", "slender_widths_m=5"],
+    ["compare", "drystone", "--set", "dt=1e-9"],
+    ["compare", "drystone", "--dt", "0"],
+    ["validate", "drystone", "--walls", "V1L,V1L"],
+    ["validate", "drystone", "--docs", "/proc"],             # not writable: refused before any run
+    ["validate", "drystone", "--docs", "/proc/wallsim"],     # cannot be created
     # keys and abbreviations
     ["compare", "nadukuru", "--set", "no_such_key=1"],
     ["compare", "nadukuru", "--set", "novalue"],
@@ -264,3 +275,16 @@ def test_the_printed_resume_command_continues_where_the_run_started(tmp_path):
     assert not (elsewhere / "runs").exists() and (root / "nadukuru" / "specimens").is_dir()
     assert not any(folder.glob("*.rrd"))
     assert json.loads(done.stdout)["run_folder"] == str(folder)
+
+
+def test_tilt_friction_has_one_valid_range(capsys):
+    """--friction (flag) and frictions_deg (case key) refuse nan and 120 with the same
+    range, (0, 80) deg, the one TiltCase checks."""
+    ranges = []
+    for argv in (["calibrate", "tilt", "--friction", "nan"], ["calibrate", "tilt", "--friction", "120"],
+                 ["calibrate", "tilt", "--set", "frictions_deg=120"]):
+        with pytest.raises(SystemExit) as stop:
+            raise SystemExit(cli.main(argv))
+        assert stop.value.code == 2
+        ranges.append(capsys.readouterr().err.split("valid range")[-1].strip())
+    assert all("(0, 80) deg" in r for r in ranges), ranges

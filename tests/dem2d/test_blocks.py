@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic.drystone import WallSection, water_limit_equilibrium
+from analytic.drystone import WallSection, section_above_fixed_course, water_limit_equilibrium
 from dem2d.blocks import (BlockWall, LoadingPlan, Masonry, classify_mechanism, course_pieces, section_polygon,
                           tilt_slide_angle, topple_angle)
 
@@ -130,7 +130,6 @@ def test_small_walls_fail_at_their_limit_equilibrium(section, phi):
     """Low friction forces sliding, a slender rough wall toppling. Limit equilibrium of the
     part above the fixed first course (a 0.875 m wall on a rigid base, water from its toe):
     the DEM fails at the first increment (2 % of h) at or above it, in its mode."""
-    from studies.drystone.run import section_above_fixed_course
     from dem2d.blocks import load_to_failure
 
     upper, y = section_above_fixed_course(section, 0.125)

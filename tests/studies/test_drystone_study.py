@@ -43,7 +43,7 @@ def test_compare_drystone_writes_its_outputs(tmp_path):
 
 BAD = [
     ["compare", "drystone", "--wall", "V9X"],
-    ["compare", "drystone", "--gamma-m", "-3"],
+    ["compare", "drystone", "--unit-weight", "-3"],
     ["compare", "drystone", "--set", "base_width_m=0.2"],      # crest width < 0 with a 15 deg batter
     ["compare", "drystone", "--set", "dt=1"],
     ["compare", "drystone", "--set", "wall=V6L"],
