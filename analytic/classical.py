@@ -172,7 +172,10 @@ def trial_wedge(soil: Soil, wall: Wall, passive: bool = False, kh: float = 0.0,
         W = g * area + wall.surcharge * (Sx - top_x)
         ex, ey = -sign * kh * W, -(1.0 - kv) * W        # inertia toward the wall when active
         rx, ry = -np.sin(rho - sign * phi), np.cos(rho - sign * phi)
-        return (-ex * ry + ey * rx) / (px * ry - py * rx)
+        # passive: at the one slip angle where R is parallel to P no wedge balances (P
+        # infinite), and the minimum over the grid passes it by
+        with np.errstate(divide="ignore"):
+            return (-ex * ry + ey * rx) / (px * ry - py * rx)
 
     # the slip plane must cut the surface (rho > beta) and stay in front of the face; an
     # active wedge under inertia can slip below phi, down to phi - psi (psi the inertia angle)
