@@ -280,7 +280,9 @@ def _product_split(table: dict[tuple[int, int], float]) -> dict[int, float]:
     return f if ok else {}
 
 
-def _new_space(solver: BlockSolver) -> pymunk.Space:
+def new_block_space(solver: BlockSolver) -> pymunk.Space:
+    """A pymunk space with ``solver``'s sweeps, slop and overlap time, gravity G down, no
+    sleeping and no global damping (blocks and gravel alike)."""
     space = pymunk.Space()
     space.gravity = (0.0, -G)
     space.iterations = solver.iterations
@@ -333,7 +335,7 @@ class BlockWall:
     @classmethod
     def build(cls, section, masonry: Masonry = Masonry(), solver: BlockSolver = BlockSolver()) -> "BlockWall":
         """The wall of ``section`` in a new space, blocks at rest on their beds."""
-        space = _new_space(solver)
+        space = new_block_space(solver)
         mu_bb = math.tan(math.radians(masonry.friction_deg))
         phi_f = masonry.friction_deg if masonry.foundation_friction_deg is None else masonry.foundation_friction_deg
         fr = pair_friction(space, {(BLOCK_TYPE, BLOCK_TYPE): mu_bb,
@@ -711,7 +713,7 @@ def load_to_failure(wall: BlockWall, plan: LoadingPlan = LoadingPlan(), *, progr
 def _tilt_pair(lower: tuple[float, float], upper: tuple[float, float], friction_deg: float,
                solver: BlockSolver, handler: bool, density: float = 2000.0):
     """A fixed block ``lower`` (length, height) and a free block ``upper`` on it, centred."""
-    space = _new_space(solver)
+    space = new_block_space(solver)
     mu = math.tan(math.radians(friction_deg))
     fr = pair_friction(space, {(BLOCK_TYPE, BLOCK_TYPE): mu}, handler=handler)
     L0, H0 = lower

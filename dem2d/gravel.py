@@ -39,7 +39,7 @@ import pymunk
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
-from .blocks import BLOCK_TYPE, G, BlockSolver, pair_friction
+from .blocks import BLOCK_TYPE, G, BlockSolver, new_block_space, pair_friction
 from .build import GRAIN_TYPE
 from .grading import Grading
 
@@ -141,12 +141,7 @@ def cloud(n: int, width: float, gravel: Gravel) -> tuple[np.ndarray, float]:
 
 
 def _new_space(solver: BlockSolver, cell: float, n: int) -> pymunk.Space:
-    space = pymunk.Space()
-    space.gravity = (0.0, -G)
-    space.iterations = solver.iterations
-    space.collision_slop = solver.collision_slop
-    space.collision_bias = math.exp(-1.0 / solver.overlap_time)
-    space.sleep_time_threshold = math.inf
+    space = new_block_space(solver)
     space.use_spatial_hash(cell, max(4 * n, 1000))
     return space
 
