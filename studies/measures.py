@@ -74,3 +74,54 @@ def dem_profile(depth: np.ndarray, sigma: np.ndarray, tau: np.ndarray, panel_hei
     K = 2.0 * F / (gamma * H**2)
     return Profile("dem", depth[below][order], sigma[below][order], tau[below][order], F, F, h, K, K, H,
                    source=source, status="measured")
+
+
+def max_shear_strain_field(x_ref: np.ndarray, x_cur: np.ndarray, cell: float, axes: tuple[int, int] = (0, 2),
+                           radius: float | None = None, min_grains: int = 6):
+    """Maximum shear strain of a granular mass between two states, on a square grid in
+    the plane of ``axes`` (for a thin 3D slab the third axis is averaged out).
+
+    At every grid node the displacement of the grains whose reference position lies
+    within ``radius`` (default: ``cell``) is fitted by an affine map x = c + F X (least
+    squares, the best-fit deformation gradient of Cundall & Strack's measurement
+    circles); from F the Green-Lagrange strain E = (F^T F - I) / 2, which a rigid
+    rotation leaves at zero, and the maximum shear strain gamma_max = E1 - E2 =
+    sqrt((E11 - E22)^2 + 4 E12^2) (engineering shear, dimensionless). Nodes with fewer
+    than ``min_grains`` grains (outside the mass) are NaN.
+
+    x_ref, x_cur: (n, d) positions [m]; cell: grid spacing [m]. Returns (u, v, gamma):
+    node coordinates along the two axes [m] and gamma of shape (len(v), len(u))."""
+    from scipy.spatial import cKDTree
+
+    a, b = axes
+    X = np.asarray(x_ref, float)[:, [a, b]]
+    Y = np.asarray(x_cur, float)[:, [a, b]]
+    r = cell if radius is None else radius
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    u = np.arange(lo[0], hi[0] + 0.5 * cell, cell)
+    v = np.arange(lo[1], hi[1] + 0.5 * cell, cell)
+    nodes = np.stack(np.meshgrid(u, v), axis=-1).reshape(-1, 2)
+    near = cKDTree(X).query_ball_point(nodes, r)
+    count = np.fromiter((len(k) for k in near), np.int64, len(near))
+    node = np.repeat(np.arange(len(nodes)), count)
+    grain = np.fromiter((g for k in near for g in k), np.int64, int(count.sum()))
+    # centred sums per node: F = (sum dY dX^T)(sum dX dX^T)^-1
+    n = np.maximum(count, 1)[:, None]
+    Xm = np.zeros((len(nodes), 2))
+    Ym = np.zeros((len(nodes), 2))
+    np.add.at(Xm, node, X[grain])
+    np.add.at(Ym, node, Y[grain])
+    Xm, Ym = Xm / n, Ym / n
+    dX = X[grain] - Xm[node]
+    dY = Y[grain] - Ym[node]
+    Sxx = np.zeros((len(nodes), 2, 2))
+    Syx = np.zeros((len(nodes), 2, 2))
+    np.add.at(Sxx, node, dX[:, :, None] * dX[:, None, :])
+    np.add.at(Syx, node, dY[:, :, None] * dX[:, None, :])
+    det = Sxx[:, 0, 0] * Sxx[:, 1, 1] - Sxx[:, 0, 1] ** 2
+    ok = (count >= min_grains) & (det > 1e-12 * np.maximum(Sxx[:, 0, 0] + Sxx[:, 1, 1], 1e-300) ** 2)
+    gamma = np.full(len(nodes), np.nan)
+    F = np.einsum("nij,njk->nik", Syx[ok], np.linalg.inv(Sxx[ok]))
+    E = 0.5 * (np.einsum("nji,njk->nik", F, F) - np.eye(2))
+    gamma[ok] = np.sqrt((E[:, 0, 0] - E[:, 1, 1]) ** 2 + 4.0 * E[:, 0, 1] ** 2)
+    return u, v, gamma.reshape(len(v), len(u))
