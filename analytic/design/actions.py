@@ -4,9 +4,9 @@
 factors (the thrust depends on phi_d) and seismic coefficients: self-weight of each
 part, the fill moving with the wall (gamma_sat below the water table behind), the
 earth thrust parts (``earth.design_thrust``: soil, surcharge and water behind apart),
-surcharge on the fill over the heel, water in front, uplift, wall and fill inertia, and
-passive resistance in front (only if switched on; it enters sliding only). With water
-behind, the free body (wall and the fill it carries) takes total weights and the water
+surcharge on the fill over the heel, water in front (and its EN 1998-5 E.8
+hydrodynamic pull when kh > 0), uplift, wall and fill inertia, and passive resistance
+in front (only if switched on; it enters sliding only). With water behind, the free body (wall and the fill it carries) takes total weights and the water
 pressures on its boundary: the water thrust on the back, water in front and the uplift
 under the base, linear from gamma_w h_front at the toe to gamma_w h_behind at the heel
 (hydrostatic on each side; the seepage under the wall is not modelled).
@@ -93,7 +93,18 @@ def wall_forces(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 
     out += thrust_forces(thrust_for(case, materials, kh, kv), case.loads.surcharge_permanent)
     out += _surcharge_on_heel(case, "G" if case.loads.surcharge_permanent else "Q")
     out += _water(case)
+    if kh > 0 and case.water.front > 0:
+        out.append(_hydrodynamic_front(case.water.front, kh))
     return out
+
+
+def _hydrodynamic_front(h: float, kh: float) -> Force:
+    """EN 1998-5 Annex E.8: free water of depth h [m] in front of the wall adds
+    q(z) = +-7/8 kh gamma_w sqrt(h z) (Westergaard 1933), resultant 7/12 kh gamma_w h^2
+    at 0.4 h above the bottom. Taken with the unfavourable sign: toward the front, the
+    water's pull as the wall moves away from the fill."""
+    return Force("hydrodynamic water in front (EN 1998-5 E.8)", "E", "geotechnical",
+                 7.0 / 12.0 * kh * GAMMA_W * h * h, 0.0, 0.0, 0.4 * h)
 
 
 def _weight_bands(fill: Backfill, top: float, level: float) -> list[tuple[float, float, float]]:

@@ -350,3 +350,29 @@ def test_cantilever_EQU_DA1_2_DA3_by_hand():
     V, H, _ = resultant(forces, [factor_of(f, combo, "bearing", tan_d, False) for f in forces])
     assert V == pytest.approx(1.35 * (78.96 + 63.6) + 1.0 * 286.2, rel=1e-9)
     assert H == pytest.approx(1.0 * Pa_d, rel=1e-9)
+
+
+def test_gravity_wall_seismic_with_water_in_front_by_hand():
+    """The seismic case above with 0.6 m of free water in front: besides the hydrostatic
+    push back Fw = 9.81 x 0.6^2 / 2 and the uplift U = 9.81 x 0.6 x 2.4 / 2, EN 1998-5
+    E.8's hydrodynamic resultant 7/12 kh gamma_w h^2 = 7/12 x 0.1 x 9.81 x 0.36 acts
+    toward the front (the unfavourable sign of +-), at 0.4 h.
+    Sliding: E = P_AE cos 20 + kh W - Fw + Ewd, R = (W (1 - kv) + P_AE sin 20 - U) tan(delta_b,d)."""
+    from analytic.design import Seismic, Water
+    wall, fill, fnd = gravity_by_hand()
+    case = DesignCase(wall, fill, fnd, water=Water(front=0.6), method=Method("coulomb", wall_friction=20),
+                      seismic=Seismic(alpha=0.1, S=1.0, r=1.0, vertical_ratio=0.5))
+    r = math.radians
+    phi, d, kh = math.atan(math.tan(r(30)) / 1.25), r(20), 0.1
+    Fw, U, Ewd = 0.5 * 9.81 * 0.36, 0.5 * 9.81 * 0.6 * 2.4, 7 / 12 * 0.1 * 9.81 * 0.36
+
+    def sliding_u(kv):
+        psi = math.atan(kh / (1 - kv))
+        K = math.cos(phi - psi) ** 2 / (math.cos(psi) * math.cos(d + psi) * (
+            1 + math.sqrt(math.sin(phi + d) * math.sin(phi - psi) / math.cos(d + psi))) ** 2)
+        P = 0.5 * 18 * 16 * (1 - kv) * K
+        E = P * math.cos(d) + kh * 144 - Fw + Ewd
+        R = (144 * (1 - kv) + P * math.sin(d) - U) * math.tan(r(20)) / 1.25
+        return E / R
+    res = verify(case, F, "seismic")
+    assert res.worst["sliding"][1].utilisation == pytest.approx(max(sliding_u(0.033), sliding_u(-0.033)), rel=1e-9)
