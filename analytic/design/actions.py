@@ -66,7 +66,8 @@ def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0
     elif delta is not None and real:
         delta = min(delta, fill.phi)
     return design_thrust(fill, back, m.earth_pressure, q=case.loads.surcharge, delta=delta, kh=kh, kv=kv,
-                         increment_height=case.seismic.increment_height, water_level=case.water.behind)
+                         increment_height=case.seismic.increment_height, water_level=case.water.behind,
+                         permeability=case.seismic.fill_permeability)
 
 
 def uses_virtual_back(case: DesignCase) -> bool:

@@ -33,7 +33,7 @@ from ..drystone import WallSection, crest_width, water_thrust
 from ..errors import InvalidParameter
 from ..inputs import require_number
 from .actions import Force, design_backfill, thrust_forces
-from .case import DesignCase, design_angle
+from .case import GAMMA_W, DesignCase, design_angle
 from .checks import factor_of, make_check, overturning_moments, resultant
 from .earth import design_thrust
 from .geometry import area_centroid
@@ -142,15 +142,28 @@ def joint_forces(case: DesignCase, z: float, materials: dict, kh: float = 0.0,
     if hw > y_I and case.backfill is None:
         Hw, Vw, xH, yH = water_thrust(wall.profile, y_I, hw)
         out.append(Force("water on back", "G", "geotechnical", Hw, Vw, xH, yH))
+        if kh > 0:
+            out.append(_hydrodynamic_on_back(wall, y_I, hw, kh))
     if case.backfill is not None and wall.height > y_I:
         fill = design_backfill(case.backfill, materials)
         back = WallBack(wall.x_i(y_I), y_I, wall.height - y_I, wall.back_batter)
         delta = case.method.wall_friction if case.method.wall_friction is not None else 2 / 3 * fill.phi
         thrust = design_thrust(fill, back, "coulomb", q=case.loads.surcharge, delta=min(delta, fill.phi),
                                kh=kh, kv=kv, increment_height=case.seismic.increment_height,
-                               water_level=max(hw - y_I, 0.0))
+                               water_level=max(hw - y_I, 0.0), permeability=case.seismic.fill_permeability)
         out += thrust_forces(thrust, case.loads.surcharge_permanent)
     return out, y_I
+
+
+def _hydrodynamic_on_back(wall: BlockWall, y_I: float, hw: float, kh: float) -> Force:
+    """EN 1998-5 Annex E.8 for the free water behind the wall (depth hw [m] from the
+    toe's level): q(z) = 7/8 kh gamma_w sqrt(hw z) at depth z, integrated over the face
+    above y_I [m] (d = hw - y_I): 7/12 kh gamma_w sqrt(hw) d^1.5 at 0.4 d above y_I,
+    horizontal (Westergaard's vertical face), toward the front (the unfavourable sign)."""
+    d = hw - y_I
+    y = y_I + 0.4 * d
+    return Force("hydrodynamic water on back (EN 1998-5 E.8)", "E", "geotechnical",
+                 7.0 / 12.0 * kh * GAMMA_W * math.sqrt(hw) * d ** 1.5, 0.0, wall.x_i(y), y)
 
 
 def _shift(forces: list[Force], x0: float, y0: float) -> list[Force]:

@@ -123,13 +123,15 @@ class Seismic:
     """EN 1998-5 7.3.2.2: alpha = a_g/g (design ground acceleration incl. gamma_I),
     S soil factor, r from Table 7.1 (1 to 2: how much displacement the wall accepts),
     vertical_ratio = a_vg/a_g; increment_height: where the dynamic increment acts, as a
-    fraction of the back's height (0.5 = mid-height)."""
+    fraction of the back's height (0.5 = mid-height); fill_permeability: 'impervious'
+    (EN 1998-5 E.6) or 'pervious' (E.7, k > 5e-4 m/s), needed with water behind."""
 
     alpha: float = 0.0
     S: float = 1.0
     r: float = 1.0
     vertical_ratio: float = 0.9
     increment_height: float = 0.5
+    fill_permeability: str | None = None
 
     def __post_init__(self):
         require_number("seismic.alpha", self.alpha, 0.0, 1.0, lo_open=False)
@@ -137,6 +139,8 @@ class Seismic:
         require_number("seismic.r", self.r, 1.0, 2.0, lo_open=False, hi_open=False)
         require_number("seismic.vertical_ratio", self.vertical_ratio, 0.0, 2.0, lo_open=False)
         require_number("seismic.increment_height", self.increment_height, 0.0, 1.0, hi_open=False)
+        if self.fill_permeability not in (None, "impervious", "pervious"):
+            raise InvalidParameter("seismic.fill_permeability", self.fill_permeability, "'impervious' or 'pervious'")
 
     @property
     def kh(self) -> float:

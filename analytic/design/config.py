@@ -24,7 +24,7 @@ TABLES = {"backfill": (Backfill, {"gamma", "phi", "c", "beta", "gamma_sat", "lay
           "water": (Water, {"front", "behind"}),
           "method": (Method, {"earth_pressure", "wall_friction", "passive", "passive_mobilisation",
                               "single_source", "thrust_moment"}),
-          "seismic": (Seismic, {"alpha", "S", "r", "vertical_ratio", "increment_height"})}
+          "seismic": (Seismic, {"alpha", "S", "r", "vertical_ratio", "increment_height", "fill_permeability"})}
 
 
 def _known(table: str, data, keys: set) -> dict:

@@ -143,7 +143,8 @@ class Thrust:
 
 def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float = 0.0,
                   delta: float | None = None, kh: float = 0.0, kv: float = 0.0,
-                  increment_height: float = 0.5, water_level: float = 0.0) -> Thrust:
+                  increment_height: float = 0.5, water_level: float = 0.0,
+                  permeability: str | None = None) -> Thrust:
     """Active thrust of ``backfill`` on ``back`` [kN/m] and where it acts.
 
     method: 'rankine-virtual-back' (Rankine 1857 for a sloping surface, parallel to the
@@ -159,7 +160,13 @@ def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float =
     0.5 gamma H^2 (1 - kv) K_AE; the increment over the static thrust acts at
     ``increment_height`` x H above the back's bottom (default 0.5: mid-height, the usual
     EN 1998-5 Annex E reading for walls that do not rotate about the toe; recalled, not
-    checked against the text, hence a setting; the static part stays at H/3)."""
+    checked against the text, hence a setting; the static part stays at H/3).
+    Seismic with the fill submerged to its surface (``water_level`` = H): EN 1998-5 E.6
+    (``permeability`` 'impervious': tan(psi) = gamma_sat / (gamma_sat - gamma_w) x
+    kh / (1 - kv)) or E.7 ('pervious': gamma / (gamma_sat - gamma_w) x kh / (1 - kv),
+    gamma standing for the dry unit weight, plus the hydrodynamic thrust
+    7/12 kh gamma_w H^2 at 0.4 H, normal to the back); the increment scales the
+    effective (gamma_sat - gamma_w) static thrust, the water stays hydrostatic."""
     if method not in METHODS:
         raise InvalidParameter("method.earth_pressure", method, " | ".join(METHODS))
     if method == "rankine-virtual-back" and not back.virtual:
@@ -171,7 +178,7 @@ def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float =
         raise InvalidParameter("water.behind", water_level, f"[0, {back.height:g}] m (up to the fill surface "
                                "at the back)")
     if backfill.cohesive or water_level > 0 or method == "ec7-annex-c" or backfill.layers:
-        return _ground_parts(backfill, back, method, q, d, water_level, kh, kv, increment_height)
+        return _ground_parts(backfill, back, method, q, d, water_level, kh, kv, increment_height, permeability)
     return _active_parts(backfill, back, method, q, d, kh, kv, increment_height)
 
 
@@ -200,34 +207,55 @@ def _active_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: 
 
 
 def _seismic_increment(fill: Backfill, back: WallBack, K: float, static: list, dl: float,
-                       kh: float, kv: float, inc: float) -> ThrustPart:
-    """Mononobe-Okabe increment over the static thrust ``static`` (soil and surcharge
+                       kh: float, kv: float, inc: float, angle_factor: float = 1.0) -> ThrustPart:
+    """Mononobe-Okabe increment over the static thrust ``static`` (its soil and surcharge
     parts, coefficient K along the thrust): ((1 - kv) K_AE / K - 1) x static, at ``inc``
-    x H (EN 1998-5 Annex E, E.2-E.4)."""
+    x H (EN 1998-5 Annex E, E.2-E.4); ``angle_factor`` scales tan(psi) for a submerged
+    fill (E.6, E.7)."""
     phi, b, om = (math.radians(a) for a in (fill.phi, fill.beta, back.omega))
-    K_AE = mononobe_okabe_coefficient(phi, dl, om, b, kh, kv)
+    K_AE = mononobe_okabe_coefficient(phi, dl, om, b, angle_factor * kh, kv)
     if not math.isfinite(K_AE):
-        lim = (1 - kv) * math.tan(phi - b)
-        raise InvalidParameter("seismic.kh", kh, f"[0, (1 - kv) tan(phi - beta)] = [0, {lim:.4g}]",
+        lim = (1 - kv) * math.tan(phi - b) / angle_factor
+        raise InvalidParameter("seismic.kh", kh, f"[0, (1 - kv) tan(phi - beta){' / ' if angle_factor != 1 else ''}"
+                               f"{f'{angle_factor:.4g}' if angle_factor != 1 else ''}] = [0, {lim:.4g}]",
                                "no active Mononobe-Okabe wedge")
     ratio = (1 - kv) * K_AE / K - 1.0
-    total = sum(p.P for p in static)
+    total = sum(p.P for p in static if p.kind in ("soil", "surcharge"))
     return _part(back, "seismic increment", "seismic", ratio * total, math.cos(dl + om), math.sin(dl + om), inc)
 
 
+def _submerged_angle_factor(fill: Backfill, H: float, water_level: float, permeability: str | None) -> float:
+    """tan(psi) factor of EN 1998-5 E.6 / E.7 for a fill submerged to its surface (1 when
+    dry); anything else Annex E does not give is refused, one line."""
+    if fill.cohesive or fill.layers:
+        raise InvalidParameter("seismic.alpha", "> 0", "0 with a cohesive or layered fill",
+                               "Mononobe-Okabe (EN 1998-5 Annex E) is for a uniform, cohesionless fill")
+    if water_level <= 0:
+        return 1.0
+    if water_level < H - 1e-9:
+        raise InvalidParameter("water.behind", water_level, f"0 or {H:g} m (the fill surface) in the seismic "
+                               "situation", "EN 1998-5 Annex E covers a water table below the wall (E.5) or "
+                               "the whole fill submerged (E.6, E.7), not one in between")
+    if permeability not in ("impervious", "pervious"):
+        raise InvalidParameter("seismic.fill_permeability", "missing", "'impervious' (EN 1998-5 E.6) or "
+                               "'pervious' (E.7)", "needed with water behind the wall")
+    g_sat = fill.gamma_wet
+    if g_sat <= GAMMA_W:
+        raise InvalidParameter("backfill.gamma_sat", g_sat, f"> gamma_w = {GAMMA_W:g} kN/m3",
+                               "EN 1998-5 E.6/E.7 divide by gamma_sat - gamma_w")
+    return (g_sat if permeability == "impervious" else fill.gamma) / (g_sat - GAMMA_W)
+
+
 def _ground_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: float, water_level: float,
-                  kh: float, kv: float, inc: float) -> Thrust:
+                  kh: float, kv: float, inc: float, permeability: str | None = None) -> Thrust:
     """Soil, surcharge and water parts from ``analytic.ground.earth_pressure`` (the
     strata of the fill; kN -> N). Each effective part acts at delta (beta for Rankine) to
     the face normal, P = N / cos(delta); the water part is normal to the face. Seismic
-    (Mononobe-Okabe) only for a dry, uniform, cohesionless fill (Annex C static thrust,
-    same ratio rule). Refused otherwise: EN 1998-5 Annex E gives a submerged fill its own
-    gamma*, seismic angle and (pervious soil) hydrodynamic thrust, and M-O has no c'; none
-    of it is implemented, and no published example to check it against was found."""
-    if (kh > 0 or kv != 0) and (fill.cohesive or water_level > 0 or fill.layers):
-        raise InvalidParameter("seismic.alpha", kh, "0 with a cohesive, submerged or layered fill",
-                               "Mononobe-Okabe is applied to a dry, uniform, cohesionless fill only; EN 1998-5 "
-                               "Annex E's water-table cases and c' are not implemented here")
+    (Mononobe-Okabe, same ratio rule) for a uniform cohesionless fill, dry or submerged to
+    its surface (``design_thrust``); a cohesive or layered fill, or a water table between
+    the base and the surface, is refused: Annex E does not give them."""
+    seismic = kh > 0 or kv != 0
+    factor = _submerged_angle_factor(fill, back.height, water_level, permeability) if seismic else 1.0
     H = back.height
     layers = tuple(Layer(b - t, x.phi, x.gamma * 1e3, x.c * 1e3, None if x.gamma_sat is None else x.gamma_sat * 1e3)
                    for t, b, x in fill.strata(H))
@@ -250,10 +278,15 @@ def _ground_parts(fill: Backfill, back: WallBack, method: str, q: float, delta: 
                                     P * math.sin(ang + om), x, y))
     K = float(prof.K_layers[0])
     K_total = K
-    if kh > 0 or kv != 0:
-        parts.append(_seismic_increment(fill, back, K, parts, d, kh, kv, inc))
+    if seismic:
+        parts.append(_seismic_increment(fill, back, K, parts, d, kh, kv, inc, factor))
         K_total = (1 - kv) * mononobe_okabe_coefficient(math.radians(fill.phi), d, om, math.radians(fill.beta),
-                                                       kh, kv)
+                                                       factor * kh, kv)
+        if water_level > 0 and permeability == "pervious":
+            Ewd = 7.0 / 12.0 * kh * GAMMA_W * H * H
+            x, y = back.point_at(back.y0 + 0.4 * H)
+            parts.append(ThrustPart("hydrodynamic water (EN 1998-5 E.7)", "seismic", Ewd, Ewd * math.cos(om),
+                                    Ewd * math.sin(om), x, y))
     notes = f"delta = {delta:g} deg on the {'virtual' if back.virtual else 'real'} back; {prof.source}"
     return Thrust(method, K_total, K_total * math.cos(d + om), prof.direction_deg, tuple(parts),
                   notes="; ".join(x for x in (notes, prof.notes) if x), back=back)

@@ -53,6 +53,14 @@ def conventions(case: DesignCase, fmt: str) -> list[str]:
         s = case.seismic
         out.append(f"seismic (EN 1998-5 7.3.2.2): kh = alpha S / r = {s.kh:.4g}, kv = +-{s.kv:.4g}; "
                    f"Mononobe-Okabe, dynamic increment at {s.increment_height:g} H, static part at H/3")
+        if case.water.behind > 0 and case.backfill is not None:
+            out.append(f"submerged fill: EN 1998-5 {'E.6 (impervious)' if s.fill_permeability == 'impervious' else 'E.7 (pervious)'}"
+                       ", gamma* = gamma_sat - gamma_w and tan(psi) scaled by "
+                       + ("gamma_sat" if s.fill_permeability == "impervious" else "gamma (as gamma_d)")
+                       + " / gamma*" + ("; hydrodynamic 7/12 kh gamma_w H^2 at 0.4 H" if s.fill_permeability == "pervious"
+                                        else "") + "; the fill carried by the wall moves with its pore water")
+        if case.water.front > 0 or (case.backfill is None and case.water.behind > 0):
+            out.append("free water: EN 1998-5 E.8 hydrodynamic pull 7/8 kh gamma_w sqrt(h z), toward the front")
     if fnd is not None:
         out.append(f"base friction delta_b = {fnd.delta_b:.4g} deg, tan(delta_b,d) = tan(delta_b) / gamma_phi")
     return out

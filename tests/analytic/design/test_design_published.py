@@ -11,6 +11,7 @@ from analytic.design import (Backfill, CantileverWall, DesignCase, Foundation, G
                              bearing_resistance, factors_of_safety, load_factors, verify)
 from analytic.design.actions import wall_forces
 from analytic.design.checks import base_pressure, overturning_moments, resultant
+from analytic.errors import InvalidParameter
 
 F = load_factors()
 
@@ -376,3 +377,70 @@ def test_gravity_wall_seismic_with_water_in_front_by_hand():
         return E / R
     res = verify(case, F, "seismic")
     assert res.worst["sliding"][1].utilisation == pytest.approx(max(sliding_u(0.033), sliding_u(-0.033)), rel=1e-9)
+
+
+@pytest.mark.parametrize("permeability", ["impervious", "pervious"])
+def test_gravity_wall_seismic_submerged_fill_by_hand(permeability):
+    """The seismic case above with the fill submerged to its surface (water 4 m behind,
+    gamma 18, gamma_sat 20): EN 1998-5 E.6 (impervious) tan(psi) = gamma_sat /
+    (gamma_sat - gamma_w) kh / (1 - kv), or E.7 (pervious) gamma_d / (gamma_sat - gamma_w)
+    kh / (1 - kv) plus E_wd = 7/12 kh gamma_w H^2; soil thrust 1/2 gamma* H^2 (1 - kv) K_AE
+    at delta with gamma* = gamma_sat - gamma_w; water 1/2 gamma_w H^2 horizontal; uplift
+    1/2 gamma_w 4 B. Sliding: E = P_AE cos 20 + E_ws + E_wd + kh W,
+    R = (W (1 - kv) + P_AE sin 20 - U) tan(delta_b,d)."""
+    from analytic.design import Seismic, Water
+    wall, _, fnd = gravity_by_hand()
+    case = DesignCase(wall, Backfill(18, 30, gamma_sat=20), fnd, water=Water(behind=4.0),
+                      method=Method("coulomb", wall_friction=20),
+                      seismic=Seismic(alpha=0.1, S=1.0, r=1.0, vertical_ratio=0.5, fill_permeability=permeability))
+    r = math.radians
+    phi, d, kh, gw = math.atan(math.tan(r(30)) / 1.25), r(20), 0.1, 9.81
+    g_star = 20 - gw
+    Ews, U = 0.5 * gw * 16, 0.5 * gw * 4 * 2.4
+    Ewd = 7 / 12 * kh * gw * 16 if permeability == "pervious" else 0.0
+    ratio = (20 if permeability == "impervious" else 18) / g_star
+
+    def sliding_u(kv):
+        psi = math.atan(ratio * kh / (1 - kv))
+        K = math.cos(phi - psi) ** 2 / (math.cos(psi) * math.cos(d + psi) * (
+            1 + math.sqrt(math.sin(phi + d) * math.sin(phi - psi) / math.cos(d + psi))) ** 2)
+        P = 0.5 * g_star * 16 * (1 - kv) * K
+        E = P * math.cos(d) + Ews + Ewd + kh * 144
+        R = (144 * (1 - kv) + P * math.sin(d) - U) * math.tan(r(20)) / 1.25
+        return E / R
+    res = verify(case, F, "seismic")
+    assert res.worst["sliding"][1].utilisation == pytest.approx(max(sliding_u(0.033), sliding_u(-0.033)), rel=1e-9)
+
+
+@pytest.mark.parametrize("water,permeability,fill,name", [
+    (2.0, "impervious", Backfill(18, 30, gamma_sat=20), "water.behind"),
+    (4.0, None, Backfill(18, 30, gamma_sat=20), "seismic.fill_permeability"),
+    (0.0, None, Backfill(18, 30, c=5), "seismic.alpha")])
+def test_seismic_cases_annex_e_does_not_give_are_refused(water, permeability, fill, name):
+    """EN 1998-5 Annex E gives the dry fill (E.5) and the fill submerged to its surface
+    (E.6, E.7, which need the permeability), for c' = 0: the rest is one error naming the key."""
+    from analytic.design import Seismic, Water
+    wall, _, fnd = gravity_by_hand()
+    case = DesignCase(wall, fill, fnd, water=Water(behind=water), method=Method("coulomb", wall_friction=20),
+                      seismic=Seismic(alpha=0.1, fill_permeability=permeability))
+    with pytest.raises(InvalidParameter, match=f"^{name} = "):
+        verify(case, F, "seismic")
+
+
+def test_block_wall_seismic_with_free_water_behind_by_hand():
+    """Rectangle h 2, b 0.6, no batter, alpha 0, 22 kN/m3, water 1.5 m behind, kh 0.1,
+    kv +-0.033 (a_vg/a_g 0.5). Toppling of the whole wall about its toe edge:
+    M_dst = gamma_w 1.5^2 / 2 x 0.5 + kh W x 1.0 + E_wd x 0.6 + kv W x 0.3, with EN 1998-5
+    E.8 E_wd = 7/12 kh gamma_w 1.5^2 at 0.4 x 1.5 (the upward inertia kv W is a
+    destabilising moment, as every force is classed by its own moment); M_stb = W x 0.3,
+    W = 26.4 kN/m; the upward sign of kv governs."""
+    from analytic.design import Seismic, Water
+    from analytic.design.blocks import BlockWall
+    wall = BlockWall(2.0, 0.6, 0.0, 0.0, courses=8, joint_friction=45.0, unit_weight=22)
+    case = DesignCase(wall, None, water=Water(behind=1.5),
+                      seismic=Seismic(alpha=0.1, S=1.0, r=1.0, vertical_ratio=0.5))
+    W, kh, gw = 26.4, 0.1, 9.81
+    dst = 0.5 * gw * 1.5 ** 2 * 0.5 + kh * W * 1.0 + 7 / 12 * kh * gw * 1.5 ** 2 * 0.6 + 0.033 * W * 0.3
+    res = verify(case, F, "seismic")
+    base = [r for c in res.combinations for r in c.joints if r["z"] == 0.0 and c.kv > 0][0]
+    assert base["overturning"].utilisation == pytest.approx(dst / (W * 0.3), rel=1e-9)
