@@ -567,6 +567,8 @@ def _add_bench(sub):
     d.add_argument("--n", type=int, choices=[10_000, 30_000], default=30_000, help="spheres (30000)")
     d.add_argument("--steps", type=_count("steps"), default=5_000, help="time steps (5000)")
     d.add_argument("--threads", type=int, choices=[1, 2], default=2, help="numba threads for dem3d (2)")
+    d.add_argument("--liggghts-ranks", type=int, choices=[1, 2], default=None,
+                   help="MPI processes for LIGGGHTS (default: as many as --threads, core for core)")
     d.add_argument("--no-liggghts", action="store_true", help="time dem3d only")
     d.add_argument("--scaling", action="store_true",
                    help="also time 10k, 30k and 100k spheres (the 10k packing tiled) for --steps/10 steps")
@@ -586,7 +588,7 @@ def _count(name: str):
 def _cmd_bench_dem3d(args) -> int:
     from studies.bench import bench_dem3d, scaling
 
-    result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts)
+    result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts, ranks=args.liggghts_ranks)
     rows = scaling(max(1, args.steps // 10), args.threads) if args.scaling else None
     if args.json:
         if rows is not None:
@@ -597,7 +599,8 @@ def _cmd_bench_dem3d(args) -> int:
     print(f"dem3d benchmark: {result['n']} spheres x {result['steps']} steps, dem3d on {result['threads']} thread(s)")
     print(f"  wallsim  {ours:10.3e} particle-steps/s  ({result['wallsim_seconds']:.2f} s)")
     if theirs is not None:
-        print(f"  LIGGGHTS {theirs:10.3e} particle-steps/s  ({result['liggghts_seconds']:.2f} s, 1 process)")
+        print(f"  LIGGGHTS {theirs:10.3e} particle-steps/s  ({result['liggghts_seconds']:.2f} s, "
+              f"{result['liggghts_ranks']} MPI process{'es' if result['liggghts_ranks'] > 1 else ''})")
         print(f"  ratio    {result['ratio']:.2f}")
         w, lg = result["check"]["wallsim"], result["check"]["liggghts"]
         print(f"  check: kinetic energy {w['kinetic_energy_J']:.4g} vs {lg['kinetic_energy_J']:.4g} J, "

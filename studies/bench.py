@@ -16,6 +16,7 @@ machine compare the ratio, not the absolute rates.
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -114,17 +115,30 @@ def time_wallsim(n: int, steps: int, threads: int, copies_y: int = 1) -> EngineR
 _LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms")
 
 
-def run_liggghts(n: int, steps: int, executable: str = LIGGGHTS) -> EngineRun:
-    """Run LIGGGHTS on the same problem exactly as benchmarks/liggghts/README.md says and
-    parse its ``Loop time`` and final thermo line (step atoms ke rke contacts cpu)."""
+def _launcher(ranks: int) -> list[str]:
+    """The MPI launch prefix for ``ranks`` > 1 LIGGGHTS processes (none for one)."""
+    if ranks == 1:
+        return []
+    mpirun = shutil.which("mpirun")
+    if mpirun is None:
+        raise InvalidParameter("liggghts_ranks", ranks, "1 (no mpirun installed)")
+    root = ["--allow-run-as-root"] if hasattr(os, "geteuid") and os.geteuid() == 0 else []
+    return [mpirun, "-np", str(ranks), *root]
+
+
+def run_liggghts(n: int, steps: int, executable: str = LIGGGHTS, ranks: int = 1) -> EngineRun:
+    """Run LIGGGHTS on the same problem exactly as benchmarks/liggghts/README.md says, on
+    ``ranks`` MPI processes, and parse its ``Loop time`` and final thermo line (step atoms
+    ke rke contacts cpu)."""
     exe = shutil.which(executable)
     if exe is None:
         raise InvalidParameter("liggghts", executable, "an installed LIGGGHTS (apt-get install liggghts)",
                                "or pass --no-liggghts")
+    launch = _launcher(ranks)
     with tempfile.TemporaryDirectory() as tmp:
         for name in ("bench.in", "model.in", f"settled_{n}.data"):
             shutil.copy(BENCH_DIR / name, tmp)
-        cmd = [exe, "-in", "bench.in", "-var", "MODEL", "model.in", "-var", "DATA", f"settled_{n}.data",
+        cmd = [*launch, exe, "-in", "bench.in", "-var", "MODEL", "model.in", "-var", "DATA", f"settled_{n}.data",
                "-var", "DT", f"{DT:g}", "-var", "NRUN", str(steps), "-var", "SKIN", f"{SKIN:g}",
                "-log", "none", "-echo", "none"]
         out = subprocess.run(cmd, cwd=tmp, capture_output=True, text=True, check=True).stdout
@@ -139,14 +153,17 @@ def run_liggghts(n: int, steps: int, executable: str = LIGGGHTS) -> EngineRun:
                      int(float(contacts)))
 
 
-def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts: bool = True) -> dict:
-    """Both engines on the same problem; the dict has the keys the CLI's --json prints
-    (n, steps, threads, wallsim_particle_steps_per_s, liggghts_particle_steps_per_s, ratio)
-    plus the physics cross-check."""
+def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts: bool = True,
+                ranks: int | None = None) -> dict:
+    """Both engines on the same problem, core for core: LIGGGHTS on ``ranks`` MPI processes
+    (default: as many as dem3d's ``threads``). The dict has the keys the CLI's --json
+    prints (n, steps, threads, liggghts_ranks, wallsim_particle_steps_per_s,
+    liggghts_particle_steps_per_s, ratio) plus the physics cross-check."""
+    ranks = threads if ranks is None else ranks
     ours = time_wallsim(n, steps, threads)
-    theirs = run_liggghts(n, steps) if liggghts else None
+    theirs = run_liggghts(n, steps, ranks=ranks) if liggghts else None
     result = {
-        "n": n, "steps": steps, "threads": threads,
+        "n": n, "steps": steps, "threads": threads, "liggghts_ranks": ranks if liggghts else None,
         "wallsim_particle_steps_per_s": ours.particle_steps_per_s,
         "liggghts_particle_steps_per_s": theirs.particle_steps_per_s if theirs else None,
         "ratio": ours.particle_steps_per_s / theirs.particle_steps_per_s if theirs else None,
