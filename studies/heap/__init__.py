@@ -31,8 +31,10 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
 
 
 def _compare_text(res: dict) -> str:
+    from .compare import slope_text
+
     return (f"heap: {res['particles']} spheres ({res['heap_spheres']} on the base), seed {res['seed']}\n"
-            f"  H {res['heap_height_m']:.3f} m, slope {res['slope_deg']:.1f} deg, porosity {res['porosity']:.3f}\n"
+            f"  H {res['heap_height_m']:.3f} m, {slope_text(res['slope_deg'])}, porosity {res['porosity']:.3f}\n"
             f"  centre / peak base stress: before {res['centre_over_peak_before']:.3f}, after "
             f"{res['centre_over_peak_after']:.3f} (Delta/H {res['subsidence_over_H']:.4f})\n"
             f"  base load / heap weight {res['base_load_over_heap_weight']:.3f}; wall {res['wall_time_s']:.0f} s, "

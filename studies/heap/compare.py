@@ -24,6 +24,14 @@ def cpu_seconds() -> float:
     return r.ru_utime + r.ru_stime
 
 
+def slope_text(slope_deg, short: bool = False) -> str:
+    """The flank slope, or why there is none: too few grains to rise into flanks."""
+    if slope_deg is None or slope_deg != slope_deg:
+        return "slope n/a" if short else ("slope n/a (no flanks between 0.2 H and 0.8 H to fit: too few "
+                                          "spheres for a heap; Fig. 1 needs ~12,000)")
+    return f"slope {slope_deg:.1f} deg"
+
+
 def compare_heap(case: HeapCase, *, root: Path = Path("runs"), rrd: Path | None = None, spawn: bool = False,
                  record: bool = True, progress=None) -> tuple[dict, Path]:
     """One heap run: its run folder, recording, figures and the result dict."""
@@ -93,8 +101,9 @@ def _write_figures(folder, case: HeapCase, run: HeapRun, norm: float) -> None:
     half, x = 0.5 * case.base_length, bin_centres(case)
     band = (0.5 * case.width - 1.5 * case.d_max, 0.5 * case.width + 1.5 * case.d_max)    # ~3 grains thick
     plot_force_chains(heap_only(run.frames["before"], half, band), folder.file("fig1a_heap.png"),
-                      title=f"Fig. 1(a): the heap before subsidence (H {run.shape.H:.2f} m, slope "
-                            f"{run.shape.slope_deg:.1f} deg), force chains in a slab {band[1] - band[0]:.2f} m thick")
+                      title=f"Fig. 1(a): the heap before subsidence (H {run.shape.H:.2f} m, "
+                            f"{slope_text(run.shape.slope_deg, short=True)}), force chains in a slab "
+                            f"{band[1] - band[0]:.2f} m thick")
     plot_force_chains(heap_only(run.frames["after"], half, band), folder.file("fig1b_force_chains.png"),
                       title=f"Fig. 1(b): force chains after subsidence, Delta/H = {run.disp_over_H:.4f}, "
                             f"slab {band[1] - band[0]:.2f} m thick")

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..runfolder import git_revision, package_versions
-from .compare import ASSUMPTIONS, compare_heap
+from .compare import ASSUMPTIONS, compare_heap, slope_text
 from .model import HeapCase
 
 KEYS = ("centre_over_peak_before", "centre_over_peak_after", "slope_deg", "heap_height_m", "porosity",
@@ -26,7 +26,7 @@ def validate_heap(case: HeapCase, *, seeds: int = 3, out_dir: Path = Path("docs/
         res, _ = compare_heap(dataclasses.replace(case, seed=seed), root=root, record=seed == 1, progress=progress)
         runs.append(res)
         log(f"heap: seed {seed}: centre/peak {res['centre_over_peak_before']:.3f} -> "
-            f"{res['centre_over_peak_after']:.3f}, slope {res['slope_deg']:.1f} deg, {res['wall_time_s']:.0f} s")
+            f"{res['centre_over_peak_after']:.3f}, {slope_text(res['slope_deg'], short=True)}, {res['wall_time_s']:.0f} s")
     return write_report(case, runs, out_dir)
 
 

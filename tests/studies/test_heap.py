@@ -75,3 +75,15 @@ def test_report_has_the_issue_keys_and_seed_statistics(tmp_path):
     assert rep["centre_over_peak_after"]["sd"] == pytest.approx(0.1)
     assert rep["seeds"] == [1, 2, 3] and rep["particles"] == 12000
     assert (tmp_path / "heap.md").is_file() and (tmp_path / "heap_base_stress.png").is_file()
+
+
+def test_a_heap_too_thin_for_flanks_says_why_instead_of_nan():
+    """A fill with no flanks to fit (slope NaN, stored as null in result.json) prints
+    'slope n/a' and the reason, never 'nan'."""
+    from studies.heap import _compare_text
+    res = dict(particles=1000, heap_spheres=987, seed=1, heap_height_m=0.1, porosity=0.4,
+               centre_over_peak_before=0.9, centre_over_peak_after=0.9, subsidence_over_H=0.0067,
+               base_load_over_heap_weight=1.0, wall_time_s=3.0, cpu_time_s=3.0)
+    for slope in (float("nan"), None):
+        text = _compare_text({**res, "slope_deg": slope})
+        assert "slope n/a" in text and "nan" not in text.lower()
