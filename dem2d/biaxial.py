@@ -423,6 +423,8 @@ def shear_band_angle(x0: np.ndarray, x1: np.ndarray, cell: float) -> float:
     direction (bins of one cell); the direction whose best bin collects the largest mean
     strain is the band. Both inclinations (+theta, 180 - theta) are tried."""
     c, g = strain_field(x0, x1, cell)
+    if len(g) < 10:     # too few cells of 6 grains (a small specimen)
+        return float("nan")
     # leave out a band of 1.5 cells along the walls (platen and piston effects)
     lo, hi = x0.min(0) + 1.5 * cell, x0.max(0) - 1.5 * cell
     inner = np.all((c >= lo) & (c <= hi), axis=1)
