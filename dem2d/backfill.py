@@ -233,7 +233,7 @@ class BackfilledWall:
         (``failed``) when the wall fails. ``on_reading(self, energy, crest)`` per reading."""
         p = self.plan
         k = int(round(max(self.backfill_height_m, 0.0) / p.layer_m))
-        h_old, h_new = self.backfill_height_m, (k + 1) * p.layer_m
+        h_old, h_new = self.backfill_height_m, round((k + 1) * p.layer_m, 9)
         new = self._drop(h_old, h_new)
         settled = self._settle(p.max_stage_s, on_reading)
         for b in new:
