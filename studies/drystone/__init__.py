@@ -1,12 +1,14 @@
-"""Dry-stone retaining walls, case A (Oetomo et al.'s PFC2D study of Villemus's five walls
-loaded by water): rigid blocks on pymunk (``dem2d.blocks``) to failure, beside the
-rigid-block limit equilibrium (``analytic.drystone``) and the site measurements.
+"""Dry-stone retaining walls (Oetomo et al.'s PFC2D study): case A, Villemus's five walls
+loaded by water, and case B, Colas's three walls under a gravel backfill: rigid blocks on
+pymunk (``dem2d.blocks``, ``dem2d.backfill``) to failure, beside the rigid-block limit
+equilibrium (``analytic.drystone``) and the site measurements.
 
-Modules: ``case`` (the case record, the two geometry estimates, what is assumed),
-``run`` (one wall: DEM, limit equilibrium, run folder), ``validate`` (five walls, the
-solver-convergence check and the bands -> docs/validation/drystone.{md,json}). Data:
-``reference.json`` (from ../shared/reference/drystone-walls.md). The study record is
-``STUDY``.
+Modules: ``case`` (the case record, the geometry estimates, what is assumed; case B's
+``BackfillSettings``), ``run`` (one case-A wall: DEM, limit equilibrium, run folder),
+``run_b`` (one case-B wall: the fill to failure, Coulomb with the slope, run folder),
+``validate`` (case A: five walls, the solver-convergence check and the bands ->
+docs/validation/drystone.{md,json}). Data: ``reference.json`` (from
+../shared/reference/drystone-walls.md). The study record is ``STUDY``.
 """
 
 from __future__ import annotations
@@ -71,7 +73,8 @@ def _compare_b_text(r: dict) -> str:
         f"  limit equilibrium {r['limit_equilibrium']['critical_height_m']:.2f} m {r['limit_equilibrium']['mode']}",
         f"  local frictions ours grain {ou['grain_friction_deg']:g} / interface {ou['interface_friction_deg']:g} deg; "
         f"paper's {lo['grain_friction_deg']:g} / {lo['interface_friction_deg']:g} deg",
-        f"  wall {r['wall_time_s']:.1f} s, CPU {r['cpu_time_s']:.1f} s, {r['speed']['steps_per_cpu_s']:.0f} steps/CPU-s, "
+        f"  wall {r['wall_time_s']:.1f} s, CPU {r['cpu_time_s']:.1f} s, "
+        f"{r['speed']['steps_per_cpu_s']:.0f} steps/CPU-s, "
         f"{r['speed']['body_steps_per_cpu_s']:.3g} body-steps/CPU-s",
         "  assumed: " + "; ".join(r["assumptions"])])
 
@@ -128,7 +131,8 @@ _CASE_OPTIONS = (
 )
 
 COMPARE = Command(
-    verb="compare", help="a dry-stone wall to failure: Villemus's under water (case A) or Colas's under gravel (case B)",
+    verb="compare",
+    help="a dry-stone wall to failure: Villemus's under water (case A) or Colas's under gravel (case B)",
     description="Case A: courses of 0.30 x 0.125 m rigid blocks with staggered joints, first course fixed, water "
                 "raised by 1 % of h per increment until the wall fails. Case B: 0.33 x 0.12 m blocks, first course "
                 "free, capsule gravel placed in 10 cm stages with the slope re-cut to 32 deg until the wall fails "
@@ -154,5 +158,6 @@ VALIDATE = Command(
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs"))))
 
-STUDY = Study(name="drystone", title="Dry-stone retaining walls loaded by water (Oetomo et al.; Villemus's walls)",
+STUDY = Study(name="drystone",
+              title="Dry-stone retaining walls to failure (Oetomo et al.): Villemus's under water, Colas's under gravel",
               commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -9,7 +9,6 @@ import math
 import time
 from pathlib import Path
 
-import numpy as np
 import pymunk
 
 from .case import DrystoneCase, assumptions, masonry, mode_word, percent_error, reference, staircase_m
@@ -26,8 +25,8 @@ def _calibrated_global(case: DrystoneCase) -> tuple[float, str]:
     import json
     path = Path(__file__).resolve().parents[2] / "docs" / "validation" / "gravel_calibration.json"
     try:
-        tests = json.loads(path.read_text())["interface"]["tests"]
-        hit = [t for t in tests if abs(t["interface_friction_deg"] - case.backfill.interface_friction_deg) < 1e-6]
+        rows = json.loads(path.read_text())["interface"]["rows"]     # seed means
+        hit = [t for t in rows if abs(t["interface_friction_deg"] - case.backfill.interface_friction_deg) < 1e-6]
         if hit:
             return float(hit[0]["global_angle_deg"]), "measured global interface angle at the case's local value"
     except (OSError, KeyError, ValueError):
@@ -47,7 +46,7 @@ def coulomb_rows(case: DrystoneCase, y_floor: float, heights: list[float], delta
 
 
 def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None) -> dict:
-    """Fill until the wall fails or the fill reaches ``max_height_m`` (no files).
+    """Fill until the wall fails or the next stage would pass ``max_height_m`` (no files).
     ``on_stage(bw, reading)`` after each stage. Returns the DEM part of the result and
     the objects the figures need."""
     from dem2d.backfill import BackfilledWall
@@ -61,7 +60,7 @@ def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None) -> dict:
     stop = bf.max_height_m if bf.max_height_m is not None else s.height_m + bf.formwork_m
     stages, body_steps = [], 0
     x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
-    while not bw.failed and bw.backfill_height_m < stop - 1e-9:
+    while not bw.failed and bw.backfill_height_m + bf.layer_m <= stop + 1e-9:
         if stages and stages[-1]["settled"]:
             x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
         s0 = bw.wall.steps
@@ -141,7 +140,8 @@ def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None
     h = [r["backfill_height_m"] for r in st]
     d = result["coulomb"]["delta_deg"]
     plot_series(h, {"DEM thrust [kN/m]": [r["thrust_N_m"] / 1e3 for r in st],
-                    f"Coulomb, beta {case.backfill.slope_deg:g}, delta {d:.1f} [kN/m]": [c["thrust_N_m"] / 1e3 for c in co],
+                    f"Coulomb, beta {case.backfill.slope_deg:g}, delta {d:.1f} [kN/m]":
+                        [c["thrust_N_m"] / 1e3 for c in co],
                     "DEM thrust height above the toe [m]": [r["thrust_height_m"] for r in st],
                     "Coulomb thrust height [m]": [c["thrust_height_m"] for c in co]},
                 folder.file("thrust.png"), xlabel="backfill height at the inner face H_b [m]", ylabel="kN/m ; m",

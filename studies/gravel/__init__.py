@@ -60,8 +60,8 @@ def _text(result: dict) -> str:
                      f"{_f(b['grain_friction_deg'])} deg (paper's local: 45)")
     if "interface" in result:
         i = result["interface"]
-        lines += [f"interface, local {t['interface_friction_deg']:g} deg: global {t['global_angle_deg']:.2f} deg"
-                  for t in i["tests"]]
+        lines += [f"interface, local {r['interface_friction_deg']:g} deg: global {r['global_angle_deg']:.2f} "
+                  f"(sd {r['global_angle_sd_deg']:.2f}) deg" for r in i["rows"]]
         lines.append(f"interface friction for global {result['targets']['interface_angle_deg']:g} deg: "
                      f"{_f(i['interface_friction_deg'])} deg (paper's local: 25)")
     return "\n".join(lines)

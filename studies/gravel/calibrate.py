@@ -24,7 +24,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -46,7 +46,7 @@ class GravelCalibration:
 
     tests:                  both | biaxial | interface
     frictions_deg:          local grain frictions of the biaxial series [deg]
-    seeds:                  biaxial specimens per friction (seed of each)
+    seeds:                  specimens per friction, biaxial and interface (seed of each)
     interface_frictions_deg: local fill-block frictions of the interface series [deg]
     grain_friction_deg:     grain friction of the interface series [deg]; None: the one
                             the biaxial series of this run gives (else ``gravel``'s)
@@ -91,8 +91,8 @@ def choose(xs, ys, target: float) -> dict:
     """The local value for a global ``target``: interpolated where two tests bracket it
     (``reached``), else the tested value whose global angle is closest (not reached)."""
     x = interpolate(xs, ys, target)
-    if math.isfinite(x):
-        return {"value_deg": x, "reached": True}
+    if math.isfinite(x):        # to 0.1 deg: the seeds scatter by several tenths
+        return {"value_deg": round(x, 1), "reached": True}
     k = int(np.argmin(np.abs(np.asarray(ys, float) - target)))
     return {"value_deg": float(xs[k]), "reached": False, "closest_global_deg": float(ys[k])}
 
@@ -132,19 +132,19 @@ def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=N
                       "sigma_3": [s.sigma_3 for s in test.samples], "eps_vol": [s.eps_vol for s in test.samples]}}
 
 
-def interface_test(plan: GravelCalibration, grain_deg: float, local_deg: float) -> dict:
+def interface_test(plan: GravelCalibration, grain_deg: float, local_deg: float, seed: int) -> dict:
     """One interface shear test: the global angle (forces averaged over the second half of
     the displacement: the angle is still rising at 6 mm in the full-size box) and the readings."""
     from dem2d.interface import InterfaceShear
 
     g = dataclasses.replace(plan.gravel, friction_deg=grain_deg, interface_friction_deg=local_deg)
-    case = dataclasses.replace(plan.shear, gravel=g, seed=plan.seed)
+    case = dataclasses.replace(plan.shear, gravel=g, seed=seed)
     t0, c0 = time.perf_counter(), time.process_time()
     box = InterfaceShear(case).build()
     readings = box.shear(readings=20)
     late = [r for r in readings if r.displacement > case.displacement_m / 2 + 1e-12]
     T, N = float(np.mean([r.shear for r in late])), float(np.mean([r.normal for r in late]))
-    return {"interface_friction_deg": local_deg, "grain_friction_deg": grain_deg,
+    return {"interface_friction_deg": local_deg, "grain_friction_deg": grain_deg, "seed": seed,
             "global_angle_deg": math.degrees(math.atan2(abs(T), N)), "normal_N_m": N,
             "applied_normal_N_m": box.applied_normal(), "n_grains": len(box.bodies), "steps": box.steps,
             "wall_time_s": time.perf_counter() - t0, "cpu_time_s": time.process_time() - c0,
@@ -184,17 +184,29 @@ def run_calibration(plan: GravelCalibration, bar=None) -> dict:
             grain = out["biaxial"]["grain_friction_deg"]
     if plan.tests in ("both", "interface"):
         grain = plan.gravel.friction_deg if grain is None else grain
-        tests = []
-        for mu in plan.interface_frictions_deg:
-            tick = _tick(bar, f"interface {mu:g} deg")
-            tests.append(interface_test(plan, grain, mu))
+        out["interface"] = _interface_series(plan, grain, bar)
+    return out
+
+
+def _interface_series(plan: GravelCalibration, grain: float, bar) -> dict:
+    """Every local fill-block friction on every seed; per friction the seed mean and sd of
+    the global angle; the chosen local value (``choose`` on the means)."""
+    tests = []
+    for mu in plan.interface_frictions_deg:
+        for seed in plan.seeds:
+            tick = _tick(bar, f"interface {mu:g} deg seed {seed}")
+            tests.append(interface_test(plan, grain, mu, seed))
             if tick:
                 tick(1.0)
-        pick = choose([t["interface_friction_deg"] for t in tests], [t["global_angle_deg"] for t in tests],
-                      plan.target_interface_deg)
-        out["interface"] = {"tests": tests, "grain_friction_deg": grain, "interface_friction_deg": pick["value_deg"],
-                            "choice": pick}
-    return out
+    rows = []
+    for mu in plan.interface_frictions_deg:
+        g = [t["global_angle_deg"] for t in tests if t["interface_friction_deg"] == mu]
+        rows.append({"interface_friction_deg": mu, "global_angle_deg": float(np.mean(g)),
+                     "global_angle_sd_deg": float(np.std(g)), "seeds": list(plan.seeds)})
+    pick = choose([r["interface_friction_deg"] for r in rows], [r["global_angle_deg"] for r in rows],
+                  plan.target_interface_deg)
+    return {"tests": tests, "rows": rows, "grain_friction_deg": grain, "interface_friction_deg": pick["value_deg"],
+            "choice": pick}
 
 
 def _tick(bar, label: str):

@@ -35,12 +35,12 @@ def write_figures(folder, result: dict) -> list[str]:
         names += ["biaxial.png", "biaxial_vs_friction.png"]
     if "interface" in result:
         i = result["interface"]
-        plot_series(None, {f"local {t['interface_friction_deg']:g} deg":
+        plot_series(None, {f"local {t['interface_friction_deg']:g} deg, seed {t['seed']}":
                            ([r["displacement"] * 1e3 for r in t["readings"]], [r["angle_deg"] for r in t["readings"]])
                            for t in i["tests"]}, folder.file("interface.png"), xlabel="face displacement [mm]",
                     ylabel="atan(T / N) [deg]", title="Interface shear, 35 kPa, flat block face")
-        mus = [t["interface_friction_deg"] for t in i["tests"]]
-        plot_series(mus, {"global (DEM)": [t["global_angle_deg"] for t in i["tests"]],
+        mus = [r["interface_friction_deg"] for r in i["rows"]]
+        plot_series(mus, {"global (DEM, seed mean)": [r["global_angle_deg"] for r in i["rows"]],
                           "global = local (Coulomb bound on a flat face)": (mus, mus),
                           f"target {result['targets']['interface_angle_deg']:g}":
                               (mus, [result["targets"]["interface_angle_deg"]] * len(mus))},
@@ -88,7 +88,8 @@ def markdown(result: dict) -> str:
     if b:
         lines += ["## Biaxial at 35 kPa", "", f"Critical state at our grain friction: "
                   f"{_f(b['phi_cs_at_chosen_deg'])} deg (paper: about {t['phi_cs_deg']:g}, the angle of repose).", "",
-                  "| local friction | seeds | peak (sd) | critical state (sd) | dilatancy | porosity (specimen / inner) |",
+                  "| local friction | seeds | peak (sd) | critical state (sd) | dilatancy "
+                  "| porosity (specimen / inner) |",
                   "|---|---|---|---|---|---|"]
         lines += [f"| {r['friction_deg']:g} | {','.join(map(str, r['seeds']))} | {r['phi_peak_deg']:.1f} "
                   f"({r['phi_peak_sd_deg']:.1f}) | {r['phi_cs_deg']:.1f} ({r['phi_cs_sd_deg']:.1f}) | "
@@ -98,16 +99,22 @@ def markdown(result: dict) -> str:
     if i:
         lines += ["## Interface shear (flat block face)", "",
                   f"Grains at local {i['grain_friction_deg']:.1f} deg.", "",
-                  "| local fill-block friction | global angle | N / applied | grains |", "|---|---|---|---|"]
-        lines += [f"| {x['interface_friction_deg']:g} | {x['global_angle_deg']:.2f} | "
-                  f"{x['normal_N_m'] / x['applied_normal_N_m']:.4f} | {x['n_grains']} |" for x in i["tests"]]
+                  "| local fill-block friction | seeds | global angle, mean (sd) | per seed | N / applied | grains |",
+                  "|---|---|---|---|---|---|"]
+        for r in i["rows"]:
+            ts = [x for x in i["tests"] if x["interface_friction_deg"] == r["interface_friction_deg"]]
+            lines.append(f"| {r['interface_friction_deg']:g} | {','.join(map(str, r['seeds']))} | "
+                         f"{r['global_angle_deg']:.2f} ({r['global_angle_sd_deg']:.2f}) | "
+                         f"{', '.join(format(x['global_angle_deg'], '.2f') for x in ts)} | "
+                         f"{min(x['normal_N_m'] / x['applied_normal_N_m'] for x in ts):.4f} | {ts[0]['n_grains']} |")
         lines += ["", "![readings](gravel_calibration/interface.png)", "",
                   "![global vs local](gravel_calibration/interface_vs_friction.png)", ""]
     return "\n".join(lines + result.get("discussion", []) + [""])
 
 
 def write_docs(docs: Path, result: dict, folder) -> None:
-    """gravel_calibration.md / .json (curves left out) and the figures beside them."""
+    """gravel_calibration.md / .json (curves left out) and the figures beside them; the
+    hand-written ``gravel_calibration_discussion.md`` of ``docs`` is appended."""
     fig_dir = docs / "gravel_calibration"
     fig_dir.mkdir(parents=True, exist_ok=True)
     for name in result.get("figures", []):
@@ -116,4 +123,8 @@ def write_docs(docs: Path, result: dict, folder) -> None:
     for t in slim.get("biaxial", {}).get("tests", []):
         t.pop("curve", None)
     atomic_write(docs / "gravel_calibration.json", (json.dumps(slim, indent=2) + "\n").encode())
-    atomic_write(docs / "gravel_calibration.md", markdown(result).encode())
+    text = markdown(result)
+    discussion = docs / "gravel_calibration_discussion.md"
+    if discussion.is_file():    # written by hand; the command copies it in
+        text += "\n" + discussion.read_text()
+    atomic_write(docs / "gravel_calibration.md", text.encode())
