@@ -1,6 +1,7 @@
 """Speed of the dry-stone case-B fill at full size (issue 24): stages of C2S (h 2.5 m,
 b 0.60 m, reference 3.3 back-fit) with the full gravel (10-16 mm), our calibrated local
-frictions, 40 sweeps, the hold (0.5 m below the surface, 1.5 m from the inner face),
+frictions (interface 75 deg: the value of the first calibration run; 84.6 now), 40 sweeps,
+the hold (0.5 m below the surface, 1.5 m from the inner face),
 until a CPU budget is spent. Per stage: grains, free grains, steps, CPU seconds, steps
 and body-steps (steps x free grains) per CPU second, thrust, its height, and the
 vertical reactions over the weight (about 0.54 with the hold: held grains carry their

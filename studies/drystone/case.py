@@ -34,9 +34,8 @@ class BackfillSettings:
 
     grain_friction_deg:     grain-grain local friction [deg] (ours 72.8: biaxial peak 37.7 at
                             35 kPa; paper's 45)
-    interface_friction_deg: fill-block local friction [deg] (ours 75: the highest global
-                            interface angle on a flat face, 35.3 deg, the target 37.7 not
-                            reached; paper's 25)
+    interface_friction_deg: fill-block local friction [deg] (ours 84.6: global 37.7 on a
+                            flat face, seed scatter of several degrees; paper's 25)
     placement_friction_deg: fill-fill friction while a layer falls [deg] (ours 45: n = 0.22
                             in ``GravelBox``; paper's 15.6, n = 0.146 here)
     width_min_m, width_max_m: grain widths [m] (10-16 mm; larger only for tests)
@@ -52,7 +51,7 @@ class BackfillSettings:
     """
 
     grain_friction_deg: float = 72.8
-    interface_friction_deg: float = 75.0
+    interface_friction_deg: float = 84.6
     placement_friction_deg: float = 45.0
     width_min_m: float = 0.010
     width_max_m: float = 0.016
