@@ -21,9 +21,10 @@ def write_figures(folder, result: dict) -> list[str]:
     if "biaxial" in result:
         b = result["biaxial"]
         plot_biaxial({f"local {t['friction_deg']:g} deg, seed {t['seed']}":
-                      (t["curve"]["eps_axial"], t["curve"]["sigma_1"], t["curve"]["sigma_3"], t["curve"]["eps_vol"])
-                      for t in b["tests"]}, folder.file("biaxial.png"),
-                     title="Gravel biaxial, 35 kPa (capsules AR 2.5, 10-16 mm)")
+                      (t["curve"]["eps_axial"], _smooth(t["curve"]["sigma_1"], t), _smooth(t["curve"]["sigma_3"], t),
+                       t["curve"]["eps_vol"]) for t in b["tests"]}, folder.file("biaxial.png"),
+                     title="Gravel biaxial, 35 kPa (capsules AR 2.5, 10-16 mm); stresses averaged over 1 % strain, "
+                           "as the peak is read")
         mus = [r["friction_deg"] for r in b["rows"]]
         t = result["targets"]
         plot_series(mus, {"peak (seed mean)": [r["phi_peak_deg"] for r in b["rows"]],
@@ -48,6 +49,14 @@ def write_figures(folder, result: dict) -> list[str]:
                     ylabel="global interface angle [deg]", title="Interface shear: global against local")
         names += ["interface.png", "interface_vs_friction.png"]
     return names
+
+
+def _smooth(y, test: dict, strain: float = 0.01):
+    """Running mean of ``y`` over ``strain`` of axial strain (the window the peak is read on)."""
+    import numpy as np
+    eps = np.asarray(test["curve"]["eps_axial"])
+    k = max(1, int(round(strain / max(float(np.median(np.diff(eps))), 1e-12))))
+    return np.convolve(np.asarray(y, float), np.ones(k) / k, mode="same") if len(y) > k else np.asarray(y, float)
 
 
 def write_tables(folder, result: dict) -> None:
