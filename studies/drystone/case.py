@@ -74,6 +74,12 @@ class BackfillSettings:
             require_number("max_height_m", self.max_height_m, 0.0, 20.0, unit="m")
         if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
             raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
+        try:                # the engine records check the rest (slope, layer, container, ...)
+            self.gravel()
+            self.plan()
+        except InvalidParameter as err:     # named by this record's key
+            key = next((f for f in self.__dataclass_fields__ if f.startswith(err.name)), err.name)
+            raise InvalidParameter(f"backfill.{key}", err.value, err.valid, err.why) from None
 
     def gravel(self):
         from dem2d.gravel import Gravel

@@ -49,3 +49,13 @@ def test_output_names_paper_and_our_values(result):
     rows = json.loads(open(f"{folder}/result.json").read())["stages"]
     assert len(rows) == len(result["stages"])
     assert any("ASSUMED" in a for a in result["assumptions"])
+
+
+def test_bad_case_b_settings_name_their_key():
+    """Bad input: one message naming the case key and its range (project rule), before any run."""
+    from analytic.errors import InvalidParameter
+    cmd = get("drystone").commands[0]
+    with pytest.raises(InvalidParameter, match="backfill.slope_deg"):
+        cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.slope_deg=70"])
+    with pytest.raises(InvalidParameter, match="geometry"):
+        cmd.resolve(flags={"wall": "C3S", "geometry": "disk-count"})
