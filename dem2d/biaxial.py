@@ -162,29 +162,30 @@ class BiaxialTest:
     t.result()``. ``t.sim`` is the model; ``t.samples`` the shear samples.
     """
 
+    #: strain over which the stresses are smoothed before the peak is read [-]
+    smooth_strain = 0.005
+
     def __init__(self, case: BiaxialCase):
         self.case = case
-        gr = case.grading
-        n = int(round(case.width * case.height * case.target_fraction / gr.mean_area()))
+        n = self._grain_count()
         f_cloud = 0.5
         expand = math.sqrt(case.target_fraction / f_cloud)
         w0, h0 = case.width * expand, case.height * expand
-        space = new_space(case.solver, gravity=(0.0, 0.0), r_min=gr.d_min / 2, d_max=gr.d_max,
-                          expected_shapes=n)
-        big_w, big_h = 2 * w0, 2 * h0
+        space = self._new_space(n)
+        rng = np.random.default_rng(case.seed)
+        # the cloud is drawn first (numpy only): a taller cloud needs taller side walls
+        cloud_ = self._cloud(n, w0, f_cloud, rng)
+        # the cloud may be taller than h0 if the lattice is coarser than planned
+        h_cloud = cloud_[-1]
+        big_w, big_h = 2 * w0, self._wall_height(h0, h_cloud)
         m = 0.02 * big_w
         t = PANEL_TYPE_BASE
         bottom = panel_wall(space, "bottom", (-m, 0.0), (big_w, 0.0), 1, friction=0.0,
                             into=(0.0, 1.0), first_type=t)
         left = panel_wall(space, "left", (0.0, -m), (0.0, big_h), 1, friction=0.0,
                           into=(1.0, 0.0), first_type=t + 1)
-        rng = np.random.default_rng(case.seed)
-        mat = case.material(case.prep_friction)
-        centres, radii = cloud(n, gr, rng, 0.0, w0 * 0.999, 0.0, f_cloud)
-        # the cloud may be taller than h0 if the lattice is coarser than planned
-        h_cloud = float((centres[:, 1] + radii).max())
         grains = Grains()
-        add_disks(space, grains, centres, radii, mat, rng)
+        self._add_grains(space, grains, cloud_, rng)
         self.mass = float(sum(b.mass for b in grains.bodies))
         piston = self.mass * case.piston_mass_fraction
         right = panel_wall(space, "right", (w0, -m), (w0, big_h), 1, friction=0.0,
@@ -195,13 +196,43 @@ class BiaxialTest:
         self.sim = Sim(space=space, grains=grains,
                        walls={"bottom": bottom, "left": left, "top": top, "right": right},
                        solver=case.solver, rng=rng)
+        gr = case.grading
         self.sim.meta.update(r_min=gr.d_min / 2, d_max=gr.d_max, case="biaxial")
-        self.solid_area = float(np.sum(np.pi * grains.circle_radius**2))
+        self.solid_area = self._solid_area(grains)
         self.samples: list[BiaxialSample] = []
         self._h0 = None
         self._a0 = None
         self._pos_marks: list[tuple[float, np.ndarray]] = []
         self.sim.hooks.append(self._push_piston)
+
+    # ------------------------------------------------------------------ grains (disks)
+    # A grain shape other than disks overrides these five (``dem2d.gravel_biaxial``).
+    def _grain_count(self) -> int:
+        """Grains that fill width x height at ``target_fraction``."""
+        c = self.case
+        return int(round(c.width * c.height * c.target_fraction / c.grading.mean_area()))
+
+    def _new_space(self, n: int) -> pymunk.Space:
+        gr = self.case.grading
+        return new_space(self.case.solver, gravity=(0.0, 0.0), r_min=gr.d_min / 2, d_max=gr.d_max,
+                         expected_shapes=n)
+
+    def _cloud(self, n: int, w0: float, f_cloud: float, rng: np.random.Generator) -> tuple:
+        """A loose cloud over [0, w0]: (centres, radii, its top [m])."""
+        centres, radii = cloud(n, self.case.grading, rng, 0.0, w0 * 0.999, 0.0, f_cloud)
+        return centres, radii, float((centres[:, 1] + radii).max())
+
+    def _wall_height(self, h0: float, h_cloud: float) -> float:
+        """Length of the side walls [m]."""
+        return 2 * h0
+
+    def _add_grains(self, space: pymunk.Space, grains: Grains, cloud_: tuple, rng: np.random.Generator) -> None:
+        """The cloud's grains into the space at the preparation friction."""
+        add_disks(space, grains, cloud_[0], cloud_[1], self.case.material(self.case.prep_friction), rng)
+
+    def _solid_area(self, grains: Grains) -> float:
+        """Solid area of the grains [m^2 per m] (porosity = 1 - solid area / specimen area)."""
+        return float(np.sum(np.pi * grains.circle_radius**2))
 
     # ------------------------------------------------------------------ geometry
     def width(self) -> float:
@@ -304,7 +335,7 @@ class BiaxialTest:
         if not self.samples:
             raise RuntimeError("run shear() first")
         return summarize(self.samples, self._pos_marks, len(self.sim.grains), self.case,
-                         self.sim.grains.circle_radius)
+                         self.sim.grains.circle_radius, smooth_strain=self.smooth_strain)
 
 
 def _smooth(y: np.ndarray, k: int) -> np.ndarray:
@@ -316,14 +347,15 @@ def _smooth(y: np.ndarray, k: int) -> np.ndarray:
 
 
 def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialCase,
-              radii: np.ndarray) -> BiaxialResult:
-    """Peak and critical-state friction angles, strains, dilatancy and band angle."""
+              radii: np.ndarray, smooth_strain: float = 0.005) -> BiaxialResult:
+    """Peak and critical-state friction angles, strains, dilatancy and band angle; the
+    stresses are smoothed over ``smooth_strain`` of axial strain before the peak is read."""
     eps = np.array([s.eps_axial for s in samples])
     s1 = np.array([s.sigma_1 for s in samples])
     s3 = np.array([s.sigma_3 for s in samples])
     ev = np.array([s.eps_vol for s in samples])
-    # smooth the stresses over ~0.5 % strain before taking ratios (impulse noise)
-    k = max(1, int(round(0.005 / max(np.median(np.diff(eps)), 1e-12))))
+    # smooth the stresses (impulse noise) before taking ratios
+    k = max(1, int(round(smooth_strain / max(np.median(np.diff(eps)), 1e-12))))
     s1s, s3s = _smooth(s1, k), _smooth(s3, k)
     sphi = (s1s - s3s) / (s1s + s3s)
     phi = np.degrees(np.arcsin(np.clip(sphi, -1, 1)))
@@ -391,6 +423,8 @@ def shear_band_angle(x0: np.ndarray, x1: np.ndarray, cell: float) -> float:
     direction (bins of one cell); the direction whose best bin collects the largest mean
     strain is the band. Both inclinations (+theta, 180 - theta) are tried."""
     c, g = strain_field(x0, x1, cell)
+    if len(g) < 10:     # too few cells of 6 grains (a small specimen)
+        return float("nan")
     # leave out a band of 1.5 cells along the walls (platen and piston effects)
     lo, hi = x0.min(0) + 1.5 * cell, x0.max(0) - 1.5 * cell
     inner = np.all((c >= lo) & (c <= hi), axis=1)

@@ -21,6 +21,7 @@ and, where blocks meet, block-block): ``FILL_TYPE`` is the grain collision type 
 * ``Gravel``          the material (grading, AR, density, frictions)
 * ``capsule_area``    area of one capsule [m^2 per m]
 * ``add_capsules``    grains into a space, with the table's shape frictions
+* ``register_capsules`` capsules in a ``build.Grains`` registry (as their end circles, for frames)
 * ``set_fill_friction`` change the fill-fill friction (placement) through the table
 * ``GravelBox``       a rigid box filled by placement at lowered friction, then restored
 * ``porosity``        2D porosity of a window (centre-in-window area count)
@@ -40,7 +41,7 @@ from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
 from .blocks import BLOCK_TYPE, G, BlockSolver, new_block_space, pair_friction
-from .build import GRAIN_TYPE
+from .build import GRAIN_TYPE, Grains
 from .grading import Grading
 
 FILL_TYPE = GRAIN_TYPE
@@ -56,9 +57,10 @@ class Gravel:
                       bulk unit weight at n = 0.22 is the measured loose 14.9 kN/m^3
                       (rho = 14900 / (g (1 - 0.22))); 2D grains have no 3D solid density.
     friction_deg:     local fill-fill friction [deg] (S-OET: 45, calibrated for PFC's soft
-                      contacts; to be recalibrated for rigid ones)
-    interface_friction_deg: local fill-block friction [deg] (S-OET: 25)
-    placement_friction_deg: fill-fill friction while placing [deg] (S-OET: 15.6)
+                      contacts; ours for rigid capsules, 72.8, is in the case-B settings:
+                      docs/validation/gravel_calibration.md)
+    interface_friction_deg: local fill-block friction [deg] (S-OET: 25; ours: the same report)
+    placement_friction_deg: fill-fill friction while placing [deg] (S-OET: 15.6; ours 45)
     """
 
     width_min_m: float = 0.010
@@ -118,6 +120,19 @@ def add_capsules(space: pymunk.Space, centres: np.ndarray, angles: np.ndarray, w
         space.add(body, shape)
         bodies.append(body)
     return bodies
+
+
+def register_capsules(grains: Grains, bodies: list[pymunk.Body], widths: np.ndarray, gravel: Gravel) -> None:
+    """Enter capsules in a ``build.Grains`` registry (frames, recordings) as their two end
+    circles (radius w/2 at +-(AR - 1) w / 2 along the axis): the outline a frame draws.
+    The registry's circle areas are not the capsule areas (``capsule_area`` is)."""
+    w = np.asarray(widths, float)
+    half = (gravel.aspect_ratio - 1.0) * w / 2
+    first = len(grains)
+    idx = np.repeat(np.arange(first, first + len(bodies)), 2)
+    off = np.zeros((2 * len(bodies), 2))
+    off[0::2, 0], off[1::2, 0] = -half, half
+    grains._extend(list(bodies), idx, off, np.repeat(w / 2, 2))
 
 
 def set_fill_friction(space: pymunk.Space, gravel: Gravel, fill_friction_deg: float | None = None, *,

@@ -20,7 +20,7 @@ from .study import Command, Option, Study
 
 #: registered studies, in the order ``wallsim --help`` lists them; each is a module
 #: ``studies.<name>`` whose ``STUDY`` is a ``Study``
-NAMES = ("nadukuru", "khosravi", "triaxial", "biaxial", "cantilever", "heap", "drystone", "tilt", "seismic")
+NAMES = ("nadukuru", "khosravi", "triaxial", "biaxial", "cantilever", "heap", "drystone", "tilt", "seismic", "gravel")
 
 
 def get(name: str) -> Study:

@@ -1,12 +1,14 @@
-"""Dry-stone retaining walls, case A (Oetomo et al.'s PFC2D study of Villemus's five walls
-loaded by water): rigid blocks on pymunk (``dem2d.blocks``) to failure, beside the
-rigid-block limit equilibrium (``analytic.drystone``) and the site measurements.
+"""Dry-stone retaining walls (Oetomo et al.'s PFC2D study): case A, Villemus's five walls
+loaded by water, and case B, Colas's three walls under a gravel backfill: rigid blocks on
+pymunk (``dem2d.blocks``, ``dem2d.backfill``) to failure, beside the rigid-block limit
+equilibrium (``analytic.drystone``) and the site measurements.
 
-Modules: ``case`` (the case record, the two geometry estimates, what is assumed),
-``run`` (one wall: DEM, limit equilibrium, run folder), ``validate`` (five walls, the
-solver-convergence check and the bands -> docs/validation/drystone.{md,json}). Data:
-``reference.json`` (from ../shared/reference/drystone-walls.md). The study record is
-``STUDY``.
+Modules: ``case`` (the case record, the geometry estimates, what is assumed; case B's
+``BackfillSettings``), ``run`` (one case-A wall: DEM, limit equilibrium, run folder),
+``run_b`` (one case-B wall: the fill to failure, Coulomb with the slope, run folder),
+``validate`` (case A: five walls, the solver-convergence check and the bands ->
+docs/validation/drystone.{md,json}). Data: ``reference.json`` (from
+../shared/reference/drystone-walls.md). The study record is ``STUDY``.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from types import SimpleNamespace
 
 from ..options import RECORDING, number, output_folder
 from ..study import Command, Option, Study
-from .case import DIRECTIONS, GEOMETRIES, WALLS
+from .case import DIRECTIONS, GEOMETRIES, WALLS, WALLS_B
 
 
 def _default_case():
@@ -29,6 +31,9 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..runner import closing_line
     from .run import compare_wall
 
+    if case.case_b:
+        return _compare_b(case, opts)
+
     with progress(opts.quiet) as bar:
         task = bar.add_task(f"{case.wall}: water raised (% of h)", total=100)
 
@@ -39,7 +44,44 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     return result, closing_line(result, None, folder)
 
 
+def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    from ..progress import progress
+    from ..runner import closing_line
+    from .run_b import compare_backfill
+
+    top = case.section().height_m + case.backfill.formwork_m
+    with progress(opts.quiet) as bar:
+        task = bar.add_task(f"{case.wall}: backfill height (% of h + formwork)", total=100)
+
+        def tick(hb, crest):
+            bar.update(task, completed=100 * hb / top, status=f"H_b {hb:.2f} m, crest {crest * 1e3:.2f} mm")
+        result, folder = compare_backfill(case, root=Path(opts.out), progress=tick)
+    return result, closing_line(result, None, folder)
+
+
+def _compare_b_text(r: dict) -> str:
+    crit = "stands" if r["critical_height_m"] is None else f"{r['critical_height_m']:.2f} m"
+    st = r["stages"][-1] if r["stages"] else {}
+    lo, ou = r["local_values"]["paper"], r["local_values"]["ours"]
+    return "\n".join([
+        f"{r['wall']} (case B, {r['particles']['blocks']} blocks, {r['particles']['grains']} grains): DEM {crit}, "
+        f"{r['mode']}; measured {r['measured_height_m']:.2f} m {r['measured_mode']}; paper's DEM "
+        f"{', '.join(f'{h:.2f}' for h in r['paper_dem_heights_m'])} m",
+        f"  last stage H_b {st.get('backfill_height_m', float('nan')):.2f} m: thrust "
+        f"{st.get('thrust_N_m', float('nan')) / 1e3:.2f} kN/m at {st.get('thrust_height_m', float('nan')):.2f} m "
+        f"(Coulomb {r['coulomb']['rows'][-1]['thrust_N_m'] / 1e3:.2f} kN/m)" if st else "  no stage",
+        f"  limit equilibrium {r['limit_equilibrium']['critical_height_m']:.2f} m {r['limit_equilibrium']['mode']}",
+        f"  local frictions ours grain {ou['grain_friction_deg']:g} / interface {ou['interface_friction_deg']:g} deg; "
+        f"paper's {lo['grain_friction_deg']:g} / {lo['interface_friction_deg']:g} deg",
+        f"  wall {r['wall_time_s']:.1f} s, CPU {r['cpu_time_s']:.1f} s, "
+        f"{r['speed']['steps_per_cpu_s']:.0f} steps/CPU-s, "
+        f"{r['speed']['body_steps_per_cpu_s']:.3g} body-steps/CPU-s",
+        "  assumed: " + "; ".join(r["assumptions"])])
+
+
 def _compare_text(r: dict) -> str:
+    if r.get("load") == "backfill":
+        return _compare_b_text(r)
     d, le, m = r["dem"], r["limit_equilibrium"]["yield-design"], r["measured"]
     crit = "stands to the crest" if d["critical_height_m"] is None else f"{d['critical_height_m']:.3f} m"
     lines = [f"{r['wall']} ({r['geometry']} geometry, b {r['section']['base_width_m']:.3g} m, "
@@ -89,12 +131,16 @@ _CASE_OPTIONS = (
 )
 
 COMPARE = Command(
-    verb="compare", help="one of Villemus's dry-stone walls loaded by water to failure (2D rigid blocks)",
-    description="Courses of 0.30 x 0.125 m rigid blocks with staggered joints, first course fixed, water raised "
-                "by 1 % of h per increment until the wall fails; DEM beside the limit equilibrium and the site "
-                "value. Example: wallsim compare drystone --wall V3L --geometry disk-count",
+    verb="compare",
+    help="a dry-stone wall to failure: Villemus's under water (case A) or Colas's under gravel (case B)",
+    description="Case A: courses of 0.30 x 0.125 m rigid blocks with staggered joints, first course fixed, water "
+                "raised by 1 % of h per increment until the wall fails. Case B: 0.33 x 0.12 m blocks, first course "
+                "free, capsule gravel placed in 10 cm stages with the slope re-cut to 32 deg until the wall fails "
+                "(an hour or more of CPU at full size). DEM beside the limit equilibrium and the site value. "
+                "Example: wallsim compare drystone --wall V3L --geometry disk-count",
     default_case=_default_case, run=_compare, text=_compare_text, seed_key=None,
-    options=(Option("--wall", "V1L | V2L | V3L | V4L | V5S (V1L)", key="wall", choices=WALLS),
+    options=(Option("--wall", "V1L | V2L | V3L | V4L | V5S (case A, water) | C2S | C3S | C4L (case B, "
+                    "backfill) (V1L)", key="wall", choices=WALLS + WALLS_B),
              *_CASE_OPTIONS, *RECORDING[:3]))
 
 VALIDATE = Command(
@@ -112,5 +158,6 @@ VALIDATE = Command(
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs"))))
 
-STUDY = Study(name="drystone", title="Dry-stone retaining walls loaded by water (Oetomo et al.; Villemus's walls)",
+STUDY = Study(name="drystone",
+              title="Dry-stone retaining walls to failure (Oetomo et al.): Villemus's under water, Colas's under gravel",
               commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -30,10 +30,10 @@ def limit_equilibrium(case: DrystoneCase) -> dict:
     condition; heights shifted back to the toe level)."""
     from analytic.drystone import section_above_fixed_course, water_limit_equilibrium
     sec, phi, g, m = case.section(), case.phi_b_deg, case.unit_weight_kN_m3, staircase_m(case)
-    upper, y = section_above_fixed_course(sec, case.block_height_m)
+    upper, y = section_above_fixed_course(sec, case.block_height)
     return {"yield-design": _le_record(water_limit_equilibrium(sec, phi, g, staircase_m=m)),
             "bed-joints": _le_record(water_limit_equilibrium(sec, phi, g, method="bed-joints",
-                                                             course_height_m=case.block_height_m)),
+                                                             course_height_m=case.block_height)),
             "above-fixed-course": _le_record(water_limit_equilibrium(upper, phi, g, staircase_m=m), y)}
 
 

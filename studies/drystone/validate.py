@@ -175,7 +175,7 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
     rep = {"case": "A", "study": "drystone", "walls": {w: entry(r) for w, r in results.items()},
            "settings": {"geometry": case.geometry, "dt_s": case.dt, "iterations": case.iterations,
                         "water_direction": case.water_direction, "increment_fraction": case.increment_fraction,
-                        "block_length_m": case.block_length_m, "block_height_m": case.block_height_m, "collision_slop_m": 1e-4,
+                        "block_length_m": case.block_length, "block_height_m": case.block_height, "collision_slop_m": 1e-4,
                         "unit_weight_kN_m3": case.unit_weight_kN_m3},
            "note": RIGID_NOTE, "git": git, "versions": package_versions(),
            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),

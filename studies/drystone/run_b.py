@@ -1,0 +1,175 @@
+"""Case B: one of Colas's walls under a gravel backfill placed in stages until it fails
+(``dem2d.backfill``), beside Coulomb's thrust with the slope and the rigid-block limit
+equilibrium (``analytic.drystone.backfill_limit_equilibrium``), and its run folder
+(stages CSV, thrust and thrust-height figures, mechanism figure, result.json)."""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import pymunk
+
+from .case import DrystoneCase, assumptions, masonry, mode_word, percent_error, reference, staircase_m
+from .run import RIGID_NOTE
+
+#: the fill as the reference gives it (3.1): unit weight [kN/m3], peak phi [deg]
+GAMMA_S, PHI_FILL = 14.9, 37.7
+
+
+def _calibrated_global(case: DrystoneCase) -> tuple[float, str]:
+    """Interface angle delta for the theories [deg]: the global target (37.7) when the
+    case's local value is the one docs/validation/gravel_calibration.json chose for it,
+    the seed-mean global angle measured there at the case's local value, else 37.7 (the
+    paper's)."""
+    import json
+    path = Path(__file__).resolve().parents[2] / "docs" / "validation" / "gravel_calibration.json"
+    mu = case.backfill.interface_friction_deg
+    try:
+        cal = json.loads(path.read_text())["interface"]
+        if abs(cal["interface_friction_deg"] - mu) < 1e-6 and cal["choice"]["reached"]:
+            return 37.7, "the global target our calibration's local value gives (gravel_calibration.md)"
+        hit = [r for r in cal["rows"] if abs(r["interface_friction_deg"] - mu) < 1e-6]
+        if hit:
+            return float(hit[0]["global_angle_deg"]), "measured global interface angle at the case's local value"
+    except (OSError, KeyError, ValueError):
+        pass
+    return 37.7, "the paper's global interface angle (no calibration at the case's local value)"
+
+
+def coulomb_rows(case: DrystoneCase, y_floor: float, heights: list[float], delta: float) -> list[dict]:
+    """Coulomb's active thrust with the slope (horizontal part, vertical inner face):
+    P_h = gamma_s (H_b - y_floor)^2 K_a cos(delta) / 2 at (H_b - y_floor) / 3 above the floor
+    (K_a: ``analytic.drystone.coulomb_ka`` with phi 37.7, beta = the case's slope)."""
+    from analytic.drystone import coulomb_ka
+    ka = coulomb_ka(PHI_FILL, delta, case.backfill.slope_deg, case.section().batter_inner_deg)
+    return [{"backfill_height_m": h, "thrust_N_m": 0.5 * GAMMA_S * 1e3 * (h - y_floor) ** 2 * ka
+             * math.cos(math.radians(delta)), "thrust_height_m": y_floor + (h - y_floor) / 3, "ka": ka}
+            for h in heights]
+
+
+def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None) -> dict:
+    """Fill until the wall fails or the next stage would pass ``max_height_m`` (no files).
+    ``on_stage(bw, reading)`` after each stage. Returns the DEM part of the result and
+    the objects the figures need."""
+    from dem2d.backfill import BackfilledWall
+    from dem2d.blocks import BlockSolver, LoadingPlan, classify_mechanism
+
+    s, bf = case.section(), case.backfill
+    t0, c0 = time.perf_counter(), time.process_time()
+    loading = LoadingPlan(failure_energy_J_m=0.1, failure_readings=10, equilibrium_energy_J_m=1e-5)
+    bw = BackfilledWall.build(s, masonry(case), bf.gravel(), bf.plan(),
+                              BlockSolver(dt=case.dt, iterations=bf.iterations), loading, seed=bf.seed)
+    stop = bf.max_height_m if bf.max_height_m is not None else s.height_m + bf.formwork_m
+    stages, body_steps = [], 0
+    x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
+    while not bw.failed and bw.backfill_height_m + bf.layer_m <= stop + 1e-9:
+        if stages and stages[-1]["settled"]:
+            x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
+        s0 = bw.wall.steps
+        r = bw.stage(on_reading)
+        free = sum(1 for b in bw.bodies if b.body_type == pymunk.Body.DYNAMIC)
+        body_steps += (bw.wall.steps - s0) * (free + int(bw.wall.dynamic.sum()))
+        stages.append(dict(r))
+        if on_stage is not None:
+            on_stage(bw, r)
+    mech = classify_mechanism(s, case.block_height, bw.wall.course, bw.wall.dynamic, x_ref, a_ref,
+                              bw.wall.positions(), bw.wall.angles()) if bw.failed else None
+    cpu = time.process_time() - c0
+    return {"bw": bw, "stages": stages, "mechanism": mech, "reference_outlines": out_ref,
+            "wall_time_s": time.perf_counter() - t0, "cpu_time_s": cpu,
+            "speed": {"steps": bw.wall.steps, "steps_per_cpu_s": bw.wall.steps / max(cpu, 1e-9),
+                      "body_steps_per_cpu_s": body_steps / max(cpu, 1e-9), "bodies_last": stages[-1]["grains"]
+                      if stages else 0}}
+
+
+def backfill_result(case: DrystoneCase, run: dict) -> dict:
+    """The result of one case-B wall: DEM, Coulomb per stage, limit equilibrium, measured,
+    the paper's DEM, local values (paper's and ours), provenance."""
+    from analytic.drystone import backfill_limit_equilibrium
+    bw, m, w = run["bw"], run["mechanism"], case.wall_reference()
+    stages = run["stages"]
+    crit = stages[-1]["backfill_height_m"] if bw.failed else None
+    delta, delta_note = _calibrated_global(case)
+    le = backfill_limit_equilibrium(case.section(), case.phi_b_deg, case.unit_weight_kN_m3, GAMMA_S, PHI_FILL,
+                                    delta, case.backfill.slope_deg, staircase_m=staircase_m(case),
+                                    course_height_m=case.block_height)
+    paper_local = reference()["backfill"]["paper_local"]
+    measured = w["measured_height_m"]["value"]
+    return {"case": "drystone", "load": "backfill", "wall": case.wall, "geometry": case.geometry,
+            "critical_height_m": crit, "mode": m.mode if m else None,
+            "mechanism_level_m": m.level_m if m else None, "measured_height_m": measured,
+            "measured_mode": mode_word(w["measured_mode"]["value"]),
+            "paper_dem_heights_m": w["paper_dem_heights_m"]["value"],
+            "error_percent": percent_error(crit if crit is not None else math.nan, measured),
+            "stages": stages, "coulomb": {"delta_deg": delta, "delta_source": delta_note, "phi_deg": PHI_FILL,
+                                          "rows": coulomb_rows(case, bw.y_floor,
+                                                               [r["backfill_height_m"] for r in stages], delta)},
+            "limit_equilibrium": {"critical_height_m": le.critical_height_m, "mode": le.mode,
+                                  "delta_deg": delta},
+            "local_values": {"paper": {k: v["value"] for k, v in paper_local.items()},
+                             "ours": {"grain_friction_deg": case.backfill.grain_friction_deg,
+                                      "interface_friction_deg": case.backfill.interface_friction_deg,
+                                      "placement_friction_deg": case.backfill.placement_friction_deg}},
+            "particles": {"blocks": bw.wall.block_count, "grains": len(bw.bodies), "held": len(bw.held)},
+            "seed": case.backfill.seed, "dt_s": case.dt, "iterations": case.backfill.iterations,
+            "speed": run["speed"], "wall_time_s": run["wall_time_s"], "cpu_time_s": run["cpu_time_s"],
+            "assumptions": assumptions(case) + backfill_assumptions(case), "note": RIGID_NOTE}
+
+
+def backfill_assumptions(case: DrystoneCase) -> list[str]:
+    """The case-B values that are assumed or ours (not the paper's), one line each."""
+    b = case.backfill
+    hold = [f"grains held static {b.hold_depth_m:g} m below the surface and {b.hold_distance_m:g} m from the inner "
+            "face (outside the failure wedge; ASSUMED harmless)"] if b.hold_depth_m is not None else []
+    return [f"fill surface rising away from the wall at {b.slope_deg:g} deg (ASSUMED direction, reference 3.3)",
+            f"container {b.container_m:g} m measured from the inner face at the heel (ASSUMED origin)",
+            f"formwork column {b.formwork_m:g} m high on the line of the inner face (ASSUMED height)",
+            f"local frictions ours (grain {b.grain_friction_deg:g}, interface {b.interface_friction_deg:g}, "
+            f"placement {b.placement_friction_deg:g} deg; paper's 45, 25, 15.6 for PFC2D clumps): "
+            "docs/validation/gravel_calibration.md",
+            "container floor and back wall at the interface friction (ASSUMED)"] + hold
+
+
+def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None:
+    """stages.csv, thrust.png (DEM and Coulomb against H_b, with the thrust height), mechanism.png."""
+    from viz.figures import plot_drystone_mechanism, plot_series
+
+    st, co = result["stages"], result["coulomb"]["rows"]
+    keys = ["backfill_height_m", "thrust_N_m", "thrust_vertical_N_m", "thrust_height_m", "container_vertical_N_m",
+            "wall_vertical_N_m", "fill_weight_N_m", "grains", "held", "crest_displacement_m", "settled", "time_s"]
+    folder.write_csv("stages.csv", keys + ["coulomb_thrust_N_m", "coulomb_thrust_height_m"],
+                     [[r[k] for k in keys] + [c["thrust_N_m"], c["thrust_height_m"]] for r, c in zip(st, co)])
+    h = [r["backfill_height_m"] for r in st]
+    d = result["coulomb"]["delta_deg"]
+    plot_series(h, {"DEM thrust [kN/m]": [r["thrust_N_m"] / 1e3 for r in st],
+                    f"Coulomb, beta {case.backfill.slope_deg:g}, delta {d:.1f} [kN/m]":
+                        [c["thrust_N_m"] / 1e3 for c in co],
+                    "DEM thrust height above the toe [m]": [r["thrust_height_m"] for r in st],
+                    "Coulomb thrust height [m]": [c["thrust_height_m"] for c in co]},
+                folder.file("thrust.png"), xlabel="backfill height at the inner face H_b [m]", ylabel="kN/m ; m",
+                title=f"{case.wall}: fill thrust against backfill height")
+    m = run["mechanism"]
+    bw = run["bw"]
+    title = (f"{case.wall} at failure, H_b = {result['critical_height_m']:.2f} m: {m.mode} at {m.level_m:.2f} m"
+             if m else f"{case.wall}: stood to H_b = {st[-1]['backfill_height_m']:.2f} m" if st else case.wall)
+    plot_drystone_mechanism(run["reference_outlines"], bw.wall.world_outlines(), bw.wall.velocities(),
+                            folder.file("mechanism.png"), water_height=0.0, title=title,
+                            level_m=m.level_m if m else None, pivot=m.pivot if m and m.mode == "toppling" else None,
+                            notes=result["assumptions"])
+
+
+def compare_backfill(case: DrystoneCase, *, root: Path, progress=None) -> tuple[dict, Path]:
+    """``wallsim compare drystone --wall C2S|C3S|C4L``: one wall filled to failure."""
+    from ..runner import finish, open_run_folder
+
+    folder = open_run_folder("drystone", case, root, seed=case.backfill.seed)
+    hook = None if progress is None else (lambda bw, r: progress(r["backfill_height_m"], r["crest_displacement_m"]))
+    run = run_backfill(case, on_stage=hook)
+    result = backfill_result(case, run) | {"run_folder": str(folder.path)}
+    write_outputs_b(folder, case, result, run)
+    finish(folder, result, particles=result["particles"], seed=case.backfill.seed, steps=run["speed"]["steps"],
+           dt_s=case.dt, iterations=case.backfill.iterations, local_values=result["local_values"],
+           wall_time_s=run["wall_time_s"], cpu_time_s=run["cpu_time_s"], assumptions=result["assumptions"])
+    return result, folder.path

@@ -1,0 +1,61 @@
+"""``compare drystone --wall C2S`` at reduced size: a 0.48 m wall with a 0.8 m base,
+coarse gravel (20-32 mm), a 0.6 m container, filled in 0.1 m stages up to the formwork
+(0.2 m above the crest).
+
+References: Coulomb's active thrust is the least a fill can put on a wall (the wall
+would have to move outward to bring it down to that); this wall does not move
+(the limit equilibrium of the section, analytic.drystone, puts its critical height at
+about 2 m or more for any interface angle the calibration gives), so the fill's thrust on
+it is at least Coulomb's with the slope (beta 32 deg, phi 37.7 deg, delta the interface
+angle) at the last stage; the case-B output names the paper's local frictions
+(S-OET: 45, 25, 15.6 deg) beside ours, and the measured height of C2S (2.30 m, S-OET
+Table 4) beside the DEM's.
+"""
+
+import json
+
+import pytest
+
+from studies import get
+
+SETS = ["height_m=0.48", "base_width_m=0.8", "backfill.width_min_m=0.02", "backfill.width_max_m=0.032",
+        "backfill.container_m=0.6", "backfill.formwork_m=0.2", "backfill.hold_depth_m=none"]
+
+
+@pytest.fixture(scope="module")
+def result(tmp_path_factory):
+    out = tmp_path_factory.mktemp("caseb")
+    cmd = get("drystone").commands[0]
+    case = cmd.resolve(flags={"wall": "C2S"}, sets=SETS)
+    res, _ = cmd.run(case, cmd.run_options(out=str(out)))
+    return res
+
+
+def test_unmoving_wall_carries_at_least_the_active_thrust(result):
+    last, coulomb = result["stages"][-1], result["coulomb"]["rows"][-1]
+    assert result["critical_height_m"] is None
+    assert result["limit_equilibrium"]["critical_height_m"] > 2 * last["backfill_height_m"]
+    assert last["backfill_height_m"] == pytest.approx(0.6)   # the last whole layer below 0.48 + 0.2 m
+    assert last["thrust_N_m"] >= coulomb["thrust_N_m"]
+    assert abs(last["crest_displacement_m"]) < 0.005
+
+
+def test_output_names_paper_and_our_values(result):
+    assert result["local_values"]["paper"] == {"grain_friction_deg": 45.0, "interface_friction_deg": 25.0,
+                                               "placement_friction_deg": 15.6}
+    assert result["local_values"]["ours"]["grain_friction_deg"] == 72.8
+    assert result["measured_height_m"] == 2.30 and result["paper_dem_heights_m"] == [2.46, 2.38]
+    folder = result["run_folder"]
+    rows = json.loads(open(f"{folder}/result.json").read())["stages"]
+    assert len(rows) == len(result["stages"])
+    assert any("ASSUMED" in a for a in result["assumptions"])
+
+
+def test_bad_case_b_settings_name_their_key():
+    """Bad input: one message naming the case key and its range (project rule), before any run."""
+    from analytic.errors import InvalidParameter
+    cmd = get("drystone").commands[0]
+    with pytest.raises(InvalidParameter, match="backfill.slope_deg"):
+        cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.slope_deg=70"])
+    with pytest.raises(InvalidParameter, match="geometry"):
+        cmd.resolve(flags={"wall": "C3S", "geometry": "disk-count"})
