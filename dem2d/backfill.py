@@ -58,7 +58,7 @@ from analytic.inputs import require_number
 
 from .blocks import (BLOCK_TYPE, FOUNDATION_TYPE, G, BlockSolver, BlockWall, LoadingPlan, Masonry,
                      _window_energy, section_polygon)
-from .gravel import FILL_TYPE, Gravel, add_capsules, capsule_area
+from .gravel import FILL_TYPE, Gravel, add_grains, grain_area
 
 CONTAINER_TYPE = 24
 #: where the formwork column above the crest is held (``FillPlan.formwork``)
@@ -253,7 +253,7 @@ class BackfilledWall:
 
     def fill_weight(self) -> float:
         """Weight of every grain, held ones included [N/m]."""
-        return G * float(self.gravel.density * capsule_area(self.widths, self.gravel.aspect_ratio).sum())
+        return G * float(self.gravel.density * grain_area(self.widths, self.gravel.aspect_ratio, self.gravel.shape).sum())
 
     def kinetic_energy(self) -> float:
         """Kinetic energy of the free grains [J/m]."""
@@ -302,7 +302,7 @@ class BackfilledWall:
         old = np.maximum(self.surface_line(h_old, xc), self.y_floor) if h_old > self.y_floor else \
             np.full(cols, self.y_floor)
         band = np.clip(self.surface_line(h_new, xc) - old, 0.0, None) * cell
-        mean = float(capsule_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio).mean())
+        mean = float(grain_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio, g.shape).mean())
         n_col = np.round(band * (1 - p.porosity) / mean * p.overfill).astype(int)
         top = self.surface_at(edges)
         top = np.maximum(top, np.maximum(np.r_[top[1:], top[-1]], np.r_[top[0], top[:-1]]))
@@ -311,7 +311,7 @@ class BackfilledWall:
             np.zeros(0)
         n = len(xs)
         widths = g.grading.sample(n, self.rng)
-        bodies = add_capsules(self.wall.space, np.c_[xs, ys], self.rng.uniform(0, math.pi, n), widths, g,
+        bodies = add_grains(self.wall.space, np.c_[xs, ys], self.rng.uniform(0, math.pi, n), widths, g,
                               self._f_place)
         self.bodies += bodies
         self.widths = np.concatenate([self.widths, widths])

@@ -60,5 +60,7 @@ def test_bad_case_b_settings_name_their_key():
         cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.slope_deg=70"])
     with pytest.raises(InvalidParameter, match="backfill.formwork = .*crest | fixed"):
         cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.formwork=wooden"])
+    with pytest.raises(InvalidParameter, match="backfill.grain_shape = .*capsule | clump3 | hexagon"):
+        cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.grain_shape=star"])
     with pytest.raises(InvalidParameter, match="geometry"):
         cmd.resolve(flags={"wall": "C3S", "geometry": "disk-count"})
