@@ -85,7 +85,8 @@ def main() -> None:
                 print(json.dumps({k: (round(v, 4) if isinstance(v, float) else v) for k, v in row.items()}),
                       flush=True)
     out = {"script": "benchmarks/gravel_shape_probe.py", "git": git_revision(), "pymunk": pymunk.version,
-           "specimen_m": [a.width, a.height], "max_strain": a.max_strain, "confining_Pa": 35e3, "dt_s": 5e-4, "iterations": a.iterations,
+           "specimen_m": [a.width, a.height], "max_strain": a.max_strain, "confining_Pa": 35e3, "dt_s": 5e-4,
+           "iterations": a.iterations,
            "placement_friction_deg": 45.0, "rows": rows, "cpu_time_s": time.process_time() - t0}
     if a.out:
         with open(a.out, "w") as f:

@@ -253,7 +253,8 @@ class BackfilledWall:
 
     def fill_weight(self) -> float:
         """Weight of every grain, held ones included [N/m]."""
-        return G * float(self.gravel.density * grain_area(self.widths, self.gravel.aspect_ratio, self.gravel.shape).sum())
+        g = self.gravel
+        return G * float(g.density * grain_area(self.widths, g.aspect_ratio, g.shape).sum())
 
     def kinetic_energy(self) -> float:
         """Kinetic energy of the free grains [J/m]."""
