@@ -2,14 +2,23 @@
 
 S-OET (../shared/reference/drystone-walls.md 3.1) load Colas's walls with their gravel:
 10 cm layers in a 2.5 m wide container, the slope re-cut to 32 deg before each stage,
-the fill continued above the crest against a fixed formwork column, until the wall's
+the fill continued above the crest against a formwork column, until the wall's
 kinetic energy stays above 0.1 J/m (10 checks). Here:
 
 * the wall is ``blocks.BlockWall`` (first course free on the fixed foundation, foundation
   friction = block-block: ``Masonry(first_course_fixed=False)``);
 * the container is static: a floor at the heel's level from the inner face to
-  ``container_m`` inward, a back wall there, and the formwork column on the line of the
-  inner face from just above the crest (``CONTAINER_TYPE``);
+  ``container_m`` inward and a back wall there (``CONTAINER_TYPE``);
+* the formwork column stands on the line of the inner face from just above the crest.
+  By default (``formwork="crest"``) it is S-OET's: "a column of disks created at the
+  top-right part of the wall and fixed to the inward wall face" (S-OET 5.2; reference
+  3.1): a capsule shape added to the body of the innermost top-course block, so it
+  moves with that block and the fill above the crest loads the wall through it (the
+  paper: "the load transfer to the wall was more direct" than on site). It is
+  massless [A] (its weight is unknown; wooden planks on site) and takes the fill-block
+  friction, BLOCK_TYPE. ``formwork="fixed"`` keeps a static column instead (ours
+  before; it carries the fill above the crest itself, as the site's formwork held by
+  the side formworks did, so walls may not fail above the crest);
 * a stage raises the fill surface by ``layer_m`` at the inner face: the band between the
   present surface and the new one, y_s(x) = H_b + (x - x_face) tan(beta) (rising away
   from the wall: reference 3.3 [A]), is filled by a column-wise cloud of capsules (per
@@ -44,13 +53,16 @@ from dataclasses import dataclass, field
 import numpy as np
 import pymunk
 
+from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
 from .blocks import (BLOCK_TYPE, FOUNDATION_TYPE, G, BlockSolver, BlockWall, LoadingPlan, Masonry,
                      _window_energy, section_polygon)
-from .gravel import FILL_TYPE, Gravel, add_capsules, capsule_area
+from .gravel import FILL_TYPE, Gravel, add_grains, grain_area
 
 CONTAINER_TYPE = 24
+#: where the formwork column above the crest is held (``FillPlan.formwork``)
+FORMWORKS = ("crest", "fixed")
 
 
 @dataclass(frozen=True)
@@ -61,7 +73,10 @@ class FillPlan:
     slope_deg:        surface slope beta, re-cut each stage [deg] (S-OET: 32; rising away
                       from the wall [A], reference 3.3)
     container_m:      fill width from the inner face at the heel [m] (S-OET: 2.5 m container)
-    formwork_m:       height of the fixed formwork column above the crest [m] [A]
+    formwork_m:       height of the formwork column above the crest [m] [A]
+    formwork:         "crest": the column is part of the innermost top-course block (S-OET,
+                      the default); "fixed": a static column (the site's, carried by
+                      the side formworks) (module docstring)
     container_friction_deg: fill-container friction [deg] [A: None = the fill-block one]
     porosity:         sizes the grains of each band [-] (S-OET: n0 = 0.22)
     overfill:         grains dropped per band / grains it holds at ``porosity`` (the cut
@@ -75,6 +90,7 @@ class FillPlan:
     slope_deg: float = 32.0
     container_m: float = 2.5
     formwork_m: float = 1.0
+    formwork: str = "crest"
     container_friction_deg: float | None = None
     porosity: float = 0.22
     overfill: float = 1.15
@@ -88,6 +104,8 @@ class FillPlan:
         require_number("slope", self.slope_deg, 0.0, 60.0, lo_open=False, hi_open=False, unit="deg")
         require_number("container", self.container_m, 0.0, 50.0, unit="m")
         require_number("formwork", self.formwork_m, 0.0, 20.0, lo_open=False, unit="m")
+        if self.formwork not in FORMWORKS:
+            raise InvalidParameter("formwork", self.formwork, " | ".join(FORMWORKS))
         if self.container_friction_deg is not None:
             require_number("container_friction", self.container_friction_deg, 0.0, 89.0, lo_open=False,
                            hi_open=False, unit="deg")
@@ -105,6 +123,8 @@ class StageReading(dict):
     above the toe level), ``thrust_N_m`` (horizontal force of the fill on the wall,
     toward the outside positive), ``thrust_vertical_N_m`` (downward positive),
     ``thrust_height_m`` (height of the horizontal resultant above the toe level),
+    ``formwork_thrust_N_m`` (horizontal force of the fill on the formwork column alone:
+    part of ``thrust_N_m`` when the column is on the crest block, not when it is fixed),
     ``container_vertical_N_m``, ``wall_vertical_N_m`` (upward reactions on the fill),
     ``fill_weight_N_m``, ``grains``, ``held``, ``crest_displacement_m``, ``settled``,
     ``time_s``, ``steps``."""
@@ -124,6 +144,8 @@ class BackfilledWall:
     held: list = field(default_factory=list)
     backfill_height_m: float = 0.0
     x_start: np.ndarray = None
+    formwork_shape: pymunk.Shape | None = None
+    formwork_body: int | None = None
     failed: bool = False
     _loud: int = 0
 
@@ -176,13 +198,35 @@ class BackfilledWall:
         fr = self._fr[CONTAINER_TYPE]
         segs = [((self.x_face - 0.5, self.y_floor - r), (self.x_back + r, self.y_floor - r)),
                 ((self.x_back + r, self.y_floor), (self.x_back + r, top))]
-        if p.formwork_m > 0:
-            x = float(self.face_x(s.height_m)) - r
-            segs.append(((x, s.height_m + 0.002 + r), (x, s.height_m + p.formwork_m)))
         for a, b in segs:
             seg = pymunk.Segment(self.wall.space.static_body, a, b, r)
             seg.collision_type, seg.friction, seg.elasticity = CONTAINER_TYPE, fr, 0.0
             self.wall.space.add(seg)
+        if p.formwork_m > 0:
+            x = float(self.face_x(s.height_m)) - r      # its inner side on the inner face's line
+            a, b = (x, s.height_m + 0.002 + r), (x, s.height_m + p.formwork_m)
+            if p.formwork == "fixed":
+                seg = pymunk.Segment(self.wall.space.static_body, a, b, r)
+                seg.collision_type, seg.friction = CONTAINER_TYPE, fr
+            else:
+                i = self._crest_inner_block()
+                body = self.wall.bodies[i]       # built at angle 0: local = world - position
+                c = np.array(tuple(body.position))
+                seg = pymunk.Segment(body, tuple(np.array(a) - c), tuple(np.array(b) - c), r)
+                seg.collision_type, seg.friction = BLOCK_TYPE, self._fr[BLOCK_TYPE]
+                self.formwork_body = i
+            seg.elasticity = 0.0
+            self.wall.space.add(seg)
+            self.formwork_shape = seg
+
+    def _crest_inner_block(self) -> int:
+        """Index of the innermost block of the top course (the one whose outline reaches
+        furthest inward at the crest): S-OET's "top-right part of the wall"."""
+        w = self.wall
+        top = int(w.course[w.dynamic].max())
+        cand = np.flatnonzero(w.dynamic & (w.course == top))
+        outl = w.world_outlines()
+        return int(cand[np.argmax([outl[i][:, 0].max() for i in cand])])
 
     def _frictions(self, masonry: Masonry) -> None:
         """Shape values for the fill pairs, handlers for the block pairs (module docstring)."""
@@ -209,7 +253,8 @@ class BackfilledWall:
 
     def fill_weight(self) -> float:
         """Weight of every grain, held ones included [N/m]."""
-        return G * float(self.gravel.density * capsule_area(self.widths, self.gravel.aspect_ratio).sum())
+        g = self.gravel
+        return G * float(g.density * grain_area(self.widths, g.aspect_ratio, g.shape).sum())
 
     def kinetic_energy(self) -> float:
         """Kinetic energy of the free grains [J/m]."""
@@ -258,7 +303,7 @@ class BackfilledWall:
         old = np.maximum(self.surface_line(h_old, xc), self.y_floor) if h_old > self.y_floor else \
             np.full(cols, self.y_floor)
         band = np.clip(self.surface_line(h_new, xc) - old, 0.0, None) * cell
-        mean = float(capsule_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio).mean())
+        mean = float(grain_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio, g.shape).mean())
         n_col = np.round(band * (1 - p.porosity) / mean * p.overfill).astype(int)
         top = self.surface_at(edges)
         top = np.maximum(top, np.maximum(np.r_[top[1:], top[-1]], np.r_[top[0], top[:-1]]))
@@ -267,7 +312,7 @@ class BackfilledWall:
             np.zeros(0)
         n = len(xs)
         widths = g.grading.sample(n, self.rng)
-        bodies = add_capsules(self.wall.space, np.c_[xs, ys], self.rng.uniform(0, math.pi, n), widths, g,
+        bodies = add_grains(self.wall.space, np.c_[xs, ys], self.rng.uniform(0, math.pi, n), widths, g,
                               self._f_place)
         self.bodies += bodies
         self.widths = np.concatenate([self.widths, widths])
@@ -332,18 +377,20 @@ class BackfilledWall:
         w = self.wall
         dt = w.solver.dt
         n = max(int(round(seconds / dt)), 1)
-        on_wall, moment, cont = np.zeros(2), 0.0, 0.0
+        on_wall, moment, cont, form = np.zeros(2), 0.0, 0.0, 0.0
         for _ in range(n):
             w.advance(dt)
             f, m = _fill_on_blocks(w.bodies)
             on_wall += f
             moment += m
             cont += _static_on_fill(w.space.static_body)
-        on_wall, moment, cont = on_wall / (n * dt), moment / (n * dt), cont / (n * dt)
+            form += _fill_on_shape(self.formwork_shape)
+        on_wall, moment, cont, form = on_wall / (n * dt), moment / (n * dt), cont / (n * dt), form / (n * dt)
         return StageReading(
             backfill_height_m=self.backfill_height_m, thrust_N_m=float(-on_wall[0]),
             thrust_vertical_N_m=float(-on_wall[1]),
             thrust_height_m=float(moment / on_wall[0]) if on_wall[0] != 0 else math.nan,
+            formwork_thrust_N_m=float(-form),
             container_vertical_N_m=float(cont), wall_vertical_N_m=float(-on_wall[1]),
             fill_weight_N_m=self.fill_weight(), grains=len(self.bodies), held=len(self.held),
             crest_displacement_m=w.crest_displacement(self.x_start), settled=bool(settled), failed=self.failed,
@@ -370,6 +417,22 @@ def _fill_on_blocks(blocks) -> tuple[np.ndarray, float]:
         if body.body_type == pymunk.Body.DYNAMIC:
             body.each_arbiter(visit)
     return out, mom[0]
+
+
+def _fill_on_shape(shape) -> float:
+    """Last step's horizontal impulse of the fill on one shape (the formwork column) [N s/m]."""
+    if shape is None:
+        return 0.0
+    out = [0.0]
+
+    def visit(arb):
+        a, b = arb.shapes
+        if a is shape and b.collision_type == FILL_TYPE:
+            out[0] += arb.total_impulse.x       # on the first shape: the column's
+        elif b is shape and a.collision_type == FILL_TYPE:
+            out[0] -= arb.total_impulse.x
+    shape.body.each_arbiter(visit)
+    return out[0]
 
 
 def _static_on_fill(static_body: pymunk.Body) -> float:

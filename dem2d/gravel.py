@@ -18,10 +18,23 @@ Friction is set through ``blocks.pair_friction`` (one table for fill-fill, fill-
 and, where blocks meet, block-block): ``FILL_TYPE`` is the grain collision type of
 ``build.GRAIN_TYPE``, blocks keep ``blocks.BLOCK_TYPE``.
 
-* ``Gravel``          the material (grading, AR, density, frictions)
-* ``capsule_area``    area of one capsule [m^2 per m]
-* ``add_capsules``    grains into a space, with the table's shape frictions
-* ``register_capsules`` capsules in a ``build.Grains`` registry (as their end circles, for frames)
+Other shapes (``Gravel.shape``, for the grain-shape probe of
+docs/validation/gravel_calibration_discussion.md), all in the same L x w = AR w x w envelope:
+
+* ``"clump3"``: three overlapping circles of diameter w on one body, centres (AR - 1) w / 2
+  apart along the axis (S-OET's grains are disk clumps; the waist between two circles is
+  0.66 w wide at AR 2.5: the clump's "bumps"). Mass and moment from the union
+  (``build.union_mass_properties``). Needs AR < 3 for the circles to overlap.
+* ``"hexagon"``: an elongated hexagon (90 deg tips, flat flanks) rounded by a radius
+  ``HEX_ROUND`` w (a pymunk Poly with a radius): angular, yet with a defined normal at
+  the corners.
+
+* ``Gravel``          the material (grading, AR, shape, density, frictions)
+* ``capsule_area``    area of one capsule [m^2 per m]; ``grain_area`` of any shape
+* ``add_capsules``    grains into a space, with the table's shape frictions; ``add_grains``
+  any shape
+* ``register_capsules`` capsules in a ``build.Grains`` registry (as their end circles, for
+  frames); ``register_grains`` any shape
 * ``set_fill_friction`` change the fill-fill friction (placement) through the table
 * ``GravelBox``       a rigid box filled by placement at lowered friction, then restored
 * ``porosity``        2D porosity of a window (centre-in-window area count)
@@ -31,6 +44,7 @@ Pure engine: no files, no printing. SI units, angles in degrees at the interface
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -41,10 +55,14 @@ from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
 from .blocks import BLOCK_TYPE, G, BlockSolver, new_block_space, pair_friction
-from .build import GRAIN_TYPE, Grains
+from .build import GRAIN_TYPE, Grains, union_mass_properties
 from .grading import Grading
 
 FILL_TYPE = GRAIN_TYPE
+#: grain shapes (module docstring)
+SHAPES = ("capsule", "clump3", "hexagon")
+#: corner radius of the ``"hexagon"`` grain, as a fraction of its width [-]
+HEX_ROUND = 0.1
 
 
 @dataclass(frozen=True)
@@ -61,6 +79,7 @@ class Gravel:
                       docs/validation/gravel_calibration.md)
     interface_friction_deg: local fill-block friction [deg] (S-OET: 25; ours: the same report)
     placement_friction_deg: fill-fill friction while placing [deg] (S-OET: 15.6; ours 45)
+    shape:            "capsule" (default) | "clump3" | "hexagon" (module docstring)
     """
 
     width_min_m: float = 0.010
@@ -70,8 +89,14 @@ class Gravel:
     friction_deg: float = 45.0
     interface_friction_deg: float = 25.0
     placement_friction_deg: float = 15.6
+    shape: str = "capsule"
 
     def __post_init__(self):
+        if self.shape not in SHAPES:
+            raise InvalidParameter("shape", self.shape, " | ".join(SHAPES))
+        if self.shape == "clump3" and not self.aspect_ratio < 3.0:
+            raise InvalidParameter("aspect_ratio", self.aspect_ratio, "[1, 3) for clump3",
+                                   "three circles of diameter w overlap only below AR 3")
         require_number("width_min", self.width_min_m, 0.0, 1.0, unit="m")
         require_number("width_max", self.width_max_m, self.width_min_m, 1.0, lo_open=False, unit="m")
         require_number("aspect_ratio", self.aspect_ratio, 1.0, 10.0, lo_open=False, hi_open=False, unit="")
@@ -101,10 +126,116 @@ def capsule_area(width, aspect_ratio: float = 2.5):
     return math.pi * w * w / 4 + (aspect_ratio - 1.0) * w * w
 
 
+def _lens(d: float, r: float) -> float:
+    """Area of the overlap of two circles of radius r whose centres are d apart [m^2]."""
+    if d >= 2 * r:
+        return 0.0
+    return 2 * r * r * math.acos(d / (2 * r)) - d / 2 * math.sqrt(4 * r * r - d * d)
+
+
+def hexagon_vertices(width: float, aspect_ratio: float) -> np.ndarray:
+    """Core vertices (6,2) of the ``"hexagon"`` grain [m], before the rounding radius
+    ``HEX_ROUND`` w: outline L = AR w by w, tips of 90 deg, flanks along the axis."""
+    rho = HEX_ROUND * width
+    a, c = aspect_ratio * width / 2 - rho, width / 2 - rho
+    b = a - c
+    return np.array([(a, 0.0), (b, c), (-b, c), (-a, 0.0), (-b, -c), (b, -c)])
+
+
+def clump_offsets(width: float, aspect_ratio: float) -> np.ndarray:
+    """Circle centres (3,2) of the ``"clump3"`` grain [m] (radius w/2 each)."""
+    d = (aspect_ratio - 1.0) * width / 2
+    return np.array([(-d, 0.0), (0.0, 0.0), (d, 0.0)])
+
+
+def grain_area(width, aspect_ratio: float = 2.5, shape: str = "capsule"):
+    """Area of one grain of width w [m^2] for each ``SHAPES`` (module docstring):
+    capsule ``capsule_area``; clump3 3 pi w^2/4 - 2 lens(d = (AR - 1) w/2); hexagon the
+    rounded hexagon (core area + perimeter rho + pi rho^2)."""
+    w = np.asarray(width, dtype=float)
+    if shape == "capsule":
+        return capsule_area(w, aspect_ratio)
+    if shape == "clump3":
+        return (3 * math.pi / 4 - 2 * _lens((aspect_ratio - 1.0) / 2, 0.5)) * w * w
+    return pymunk.area_for_poly([tuple(p) for p in hexagon_vertices(1.0, aspect_ratio)], HEX_ROUND) * w * w
+
+
+@functools.lru_cache(maxsize=8)
+def _hexagon_gyration(aspect_ratio: float, resolution: int = 800) -> float:
+    """Squared radius of gyration of the rounded hexagon at width 1 [m^2] (rasterised:
+    pymunk's moment_for_poly leaves the rounding radius out)."""
+    v = hexagon_vertices(1.0, aspect_ratio)
+    h = aspect_ratio / resolution
+    X, Y = np.meshgrid(np.arange(-aspect_ratio / 2, aspect_ratio / 2, h) + h / 2, np.arange(-0.5, 0.5, h) + h / 2)
+    P = np.c_[X.ravel(), Y.ravel()]
+    inside = np.ones(len(P), bool)
+    dist = np.full(len(P), np.inf)
+    for a, b in zip(v, np.roll(v, -1, axis=0)):
+        e = b - a
+        inside &= (e[0] * (P[:, 1] - a[1]) - e[1] * (P[:, 0] - a[0])) >= 0     # ccw: left of every edge
+        t = np.clip(((P - a) @ e) / (e @ e), 0.0, 1.0)
+        dist = np.minimum(dist, np.hypot(*(P - a - t[:, None] * e).T))
+    q = P[inside | (dist <= HEX_ROUND)]
+    return float((q ** 2).sum(axis=1).mean())
+
+
+@functools.lru_cache(maxsize=8)
+def _clump_gyration(aspect_ratio: float) -> float:
+    """Squared radius of gyration of the clump3 union at width 1 [m^2] (rasterised)."""
+    m, i, _ = union_mass_properties(clump_offsets(1.0, aspect_ratio), np.full(3, 0.5), 1.0, resolution=600)
+    return i / m
+
+
+def add_grains(space: pymunk.Space, centres: np.ndarray, angles: np.ndarray, widths: np.ndarray,
+               gravel: Gravel, friction: float) -> list[pymunk.Body]:
+    """``add_capsules`` for any ``gravel.shape``: one dynamic body per grain, mass from
+    ``grain_area`` (overlaps of the clump counted once), the shapes at ``friction``."""
+    if gravel.shape == "capsule":
+        return add_capsules(space, centres, angles, widths, gravel, friction)
+    bodies, objs = [], []
+    ar = gravel.aspect_ratio
+    for c, a, w in zip(np.asarray(centres, float), np.asarray(angles, float), np.asarray(widths, float)):
+        m = gravel.density * float(grain_area(w, ar, gravel.shape))
+        if gravel.shape == "clump3":
+            body = pymunk.Body(m, m * w * w * _clump_gyration(ar))
+            shapes = [pymunk.Circle(body, w / 2, offset=tuple(o)) for o in clump_offsets(w, ar)]
+        else:
+            verts = [tuple(p) for p in hexagon_vertices(w, ar)]
+            body = pymunk.Body(m, m * w * w * _hexagon_gyration(ar))
+            shapes = [pymunk.Poly(body, verts, radius=HEX_ROUND * w)]
+        body.position = (float(c[0]), float(c[1]))
+        body.angle = float(a)
+        for sh in shapes:
+            sh.friction, sh.elasticity, sh.collision_type = friction, 0.0, FILL_TYPE
+        objs += [body, *shapes]
+        bodies.append(body)
+    space.add(*objs)
+    return bodies
+
+
+def register_grains(grains: Grains, bodies: list[pymunk.Body], widths: np.ndarray, gravel: Gravel) -> None:
+    """``register_capsules`` for any shape: clumps as their circles, hexagons as polygons."""
+    if gravel.shape == "capsule":
+        return register_capsules(grains, bodies, widths, gravel)
+    first = len(grains)
+    w = np.asarray(widths, float)
+    if gravel.shape == "clump3":
+        off = np.concatenate([clump_offsets(x, gravel.aspect_ratio) for x in w]) if len(w) else np.zeros((0, 2))
+        grains._extend(list(bodies), np.repeat(np.arange(first, first + len(bodies)), 3), off, np.repeat(w / 2, 3))
+        return None
+    for j, x in enumerate(w):
+        grains.polys.append((first + j, hexagon_vertices(x, gravel.aspect_ratio)))
+    grains._extend(list(bodies), [], np.zeros((0, 2)), [])
+    return None
+
+
 def add_capsules(space: pymunk.Space, centres: np.ndarray, angles: np.ndarray, widths: np.ndarray,
                  gravel: Gravel, friction: float) -> list[pymunk.Body]:
     """One dynamic capsule per grain: centre (n,2) [m], axis angle (n,) [rad], width (n,) [m];
-    ``friction`` is the shape value that ``pair_friction`` returned for FILL_TYPE."""
+    ``friction`` is the shape value that ``pair_friction`` returned for FILL_TYPE. The
+    moment is pymunk's ``moment_for_segment``, that of the L x w rectangle: 15 % above
+    the capsule's own at AR 2.5 (the calibration ran with it; the other shapes of
+    ``add_grains`` take their outline's)."""
     bodies = []
     for c, a, w in zip(np.asarray(centres, float), np.asarray(angles, float), np.asarray(widths, float)):
         r = w / 2
@@ -194,7 +325,8 @@ class GravelBox:
     def n_grains_for(self, porosity: float = 0.22) -> int:
         """Grains that fill width x height at ``porosity`` (mean area of the grading)."""
         w = self.gravel.grading.sample(20000, np.random.default_rng(12345))
-        return int(round(self.width_m * self.height_m * (1 - porosity) / capsule_area(w, self.gravel.aspect_ratio).mean()))
+        g = self.gravel
+        return int(round(self.width_m * self.height_m * (1 - porosity) / grain_area(w, g.aspect_ratio, g.shape).mean()))
 
     def place(self, porosity: float = 0.22, settle_s: float = 1.0, restore_s: float = 0.5,
               ke_per_grain: float = 1e-5) -> None:
@@ -208,7 +340,7 @@ class GravelBox:
         self._add_box(xy[:, 1].max() + cell + self.height_m)
         self.widths = g.grading.sample(n, rng)
         fr = set_fill_friction(self.space, g, g.placement_friction_deg)
-        self.bodies = add_capsules(self.space, xy, rng.uniform(0, math.pi, n), self.widths, g,
+        self.bodies = add_grains(self.space, xy, rng.uniform(0, math.pi, n), self.widths, g,
                                    fr.get(FILL_TYPE, 1.0))
         self.settle(settle_s, ke_per_grain)
         set_fill_friction(self.space, g)
@@ -283,7 +415,7 @@ def _static_impulse(bodies) -> np.ndarray:
     return out
 
 
-def porosity(centres: np.ndarray, widths: np.ndarray, aspect_ratio: float, window) -> float:
+def porosity(centres: np.ndarray, widths: np.ndarray, aspect_ratio: float, window, shape: str = "capsule") -> float:
     """2D porosity of the window (x0, x1, y0, y1) [m]: 1 - (area of grains whose centre lies
     inside) / window area. Unbiased for a window many grains across (edge grains in and
     out cancel on average)."""
@@ -292,4 +424,4 @@ def porosity(centres: np.ndarray, widths: np.ndarray, aspect_ratio: float, windo
         raise InvalidParameter("window", window, "x1 > x0 and y1 > y0")
     c = np.asarray(centres, float)
     inside = (c[:, 0] >= x0) & (c[:, 0] < x1) & (c[:, 1] >= y0) & (c[:, 1] < y1)
-    return float(1.0 - capsule_area(np.asarray(widths)[inside], aspect_ratio).sum() / ((x1 - x0) * (y1 - y0)))
+    return float(1.0 - grain_area(np.asarray(widths)[inside], aspect_ratio, shape).sum() / ((x1 - x0) * (y1 - y0)))

@@ -13,7 +13,9 @@ strain-controlled top platen, no gravity) on ``dem2d.gravel`` capsules:
 * porosity: 1 - capsule area / specimen area (walls included: grains pack looser
   against a flat wall), and ``inner_porosity`` one grain length in from every wall
   (``gravel.porosity``, the window the fill's porosity is read in);
-* frames draw each capsule as its two end circles (``gravel.register_capsules``).
+* frames draw each capsule as its two end circles (``gravel.register_grains``);
+* other grain shapes (``Gravel.shape``: clumps of three circles, rounded hexagons) run
+  the same way, for the shape probe.
 
 The case holds angles in degrees; ``friction`` / ``prep_friction`` (coefficients) are
 what the biaxial test reads.
@@ -34,7 +36,7 @@ from analytic.inputs import require_number
 
 from .biaxial import BiaxialTest
 from .build import Grains, new_space
-from .gravel import Gravel, add_capsules, capsule_area, cloud, porosity, register_capsules
+from .gravel import Gravel, add_grains, cloud, grain_area, porosity, register_grains
 from .params import Material, Solver
 
 
@@ -115,7 +117,7 @@ class GravelBiaxialTest(BiaxialTest):
 
     def _grain_count(self) -> int:
         g = self.case.gravel
-        mean = capsule_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio).mean()
+        mean = grain_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio, g.shape).mean()
         return int(round(self.case.width * self.case.height * self.case.target_fraction / mean))
 
     def _new_space(self, n: int) -> pymunk.Space:
@@ -139,12 +141,13 @@ class GravelBiaxialTest(BiaxialTest):
         g = self.case.gravel
         centres, widths, angles, _ = cloud_
         f_grain = math.sqrt(self.case.prep_friction)      # product rule, walls frictionless
-        bodies = add_capsules(space, centres, angles, widths, g, f_grain)
-        register_capsules(grains, bodies, widths, g)
+        bodies = add_grains(space, centres, angles, widths, g, f_grain)
+        register_grains(grains, bodies, widths, g)
         self.widths = widths
 
     def _solid_area(self, grains: Grains) -> float:
-        return float(capsule_area(self.widths, self.case.gravel.aspect_ratio).sum())
+        g = self.case.gravel
+        return float(grain_area(self.widths, g.aspect_ratio, g.shape).sum())
 
     def inner_porosity(self) -> float:
         """Porosity one longest grain in from every wall (``gravel.porosity``) [-]."""
@@ -152,4 +155,4 @@ class GravelBiaxialTest(BiaxialTest):
         inset = g.aspect_ratio * g.width_max_m
         pos = self.sim.state().position
         return porosity(pos, self.widths, g.aspect_ratio,
-                        (inset, self.width() - inset, inset, self.height() - inset))
+                        (inset, self.width() - inset, inset, self.height() - inset), g.shape)

@@ -46,7 +46,7 @@ import pymunk
 from analytic.inputs import require_number
 
 from .blocks import BLOCK_TYPE, G, BlockSolver, pair_friction
-from .gravel import FILL_TYPE, Gravel, add_capsules, capsule_area, cloud
+from .gravel import FILL_TYPE, Gravel, add_grains, cloud, grain_area
 
 WALL_TYPE = 23
 
@@ -111,7 +111,7 @@ class InterfaceShear:
         friction restored and the box settled under sigma_n."""
         c, g = self.case, self.case.gravel
         rng = np.random.default_rng(c.seed)
-        mean_area = capsule_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio).mean()
+        mean_area = grain_area(g.grading.sample(20000, np.random.default_rng(12345)), g.aspect_ratio, g.shape).mean()
         n = int(round(c.length_m * c.height_m * (1 - c.porosity) / mean_area))
         centres, cell = cloud(n, c.length_m, g)
         top = centres[:, 1].max() + cell
@@ -133,7 +133,7 @@ class InterfaceShear:
             s.collision_type, s.friction = WALL_TYPE, 0.0
             self.space.add(s)
         widths = g.grading.sample(n, rng)
-        self.bodies = add_capsules(self.space, centres, rng.uniform(0, math.pi, n), widths, g, fr[FILL_TYPE])
+        self.bodies = add_grains(self.space, centres, rng.uniform(0, math.pi, n), widths, g, fr[FILL_TYPE])
         self._run(c.place_s)
         self._add_lid()
         self._frictions(None)

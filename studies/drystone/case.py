@@ -39,8 +39,15 @@ class BackfillSettings:
     placement_friction_deg: fill-fill friction while a layer falls [deg] (ours 45: n = 0.22
                             in ``GravelBox``; paper's 15.6, n = 0.146 here)
     width_min_m, width_max_m: grain widths [m] (10-16 mm; larger only for tests)
+    grain_shape:            capsule (the calibrated one, default) | clump3 | hexagon
+                            (``dem2d.gravel``; the local frictions above are the capsules':
+                            another shape needs its own calibration, gravel_calibration_discussion.md)
     layer_m, slope_deg, container_m, formwork_m: ``FillPlan`` (0.10 m, 32 deg, 2.5 m; the
                             formwork column height [A] 1.0 m)
+    formwork:               "crest" (S-OET 5.2: the column is fixed to the inner face, part of
+                            the innermost top-course block, so the fill above the crest loads
+                            the wall through it; the default) | "fixed" (a static column, as
+                            the site's formwork carried by the side formworks)
     max_height_m:           stop filling at this height at the inner face [m] (None: the
                             crest plus the formwork)
     hold_depth_m, hold_distance_m: grains held static this far below the surface and from
@@ -55,10 +62,12 @@ class BackfillSettings:
     placement_friction_deg: float = 45.0
     width_min_m: float = 0.010
     width_max_m: float = 0.016
+    grain_shape: str = "capsule"
     layer_m: float = 0.10
     slope_deg: float = 32.0
     container_m: float = 2.5
     formwork_m: float = 1.0
+    formwork: str = "crest"
     max_height_m: float | None = None
     hold_depth_m: float | None = 0.5
     hold_distance_m: float = 1.5
@@ -74,6 +83,12 @@ class BackfillSettings:
             require_number("max_height_m", self.max_height_m, 0.0, 20.0, unit="m")
         if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
             raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
+        from dem2d.backfill import FORMWORKS
+        from dem2d.gravel import SHAPES
+        if self.grain_shape not in SHAPES:
+            raise InvalidParameter("backfill.grain_shape", self.grain_shape, " | ".join(SHAPES))
+        if self.formwork not in FORMWORKS:      # before the engine's, whose name is formwork_m's prefix
+            raise InvalidParameter("backfill.formwork", self.formwork, " | ".join(FORMWORKS))
         try:                # the engine records check the rest (slope, layer, container, ...)
             self.gravel()
             self.plan()
@@ -85,12 +100,12 @@ class BackfillSettings:
         from dem2d.gravel import Gravel
         return Gravel(width_min_m=self.width_min_m, width_max_m=self.width_max_m,
                       friction_deg=self.grain_friction_deg, interface_friction_deg=self.interface_friction_deg,
-                      placement_friction_deg=self.placement_friction_deg)
+                      placement_friction_deg=self.placement_friction_deg, shape=self.grain_shape)
 
     def plan(self):
         from dem2d.backfill import FillPlan
         return FillPlan(layer_m=self.layer_m, slope_deg=self.slope_deg, container_m=self.container_m,
-                        formwork_m=self.formwork_m, hold_depth_m=self.hold_depth_m,
+                        formwork_m=self.formwork_m, formwork=self.formwork, hold_depth_m=self.hold_depth_m,
                         hold_distance_m=self.hold_distance_m)
 
 

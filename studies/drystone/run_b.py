@@ -125,7 +125,10 @@ def backfill_assumptions(case: DrystoneCase) -> list[str]:
             "face (outside the failure wedge; ASSUMED harmless)"] if b.hold_depth_m is not None else []
     return [f"fill surface rising away from the wall at {b.slope_deg:g} deg (ASSUMED direction, reference 3.3)",
             f"container {b.container_m:g} m measured from the inner face at the heel (ASSUMED origin)",
-            f"formwork column {b.formwork_m:g} m high on the line of the inner face (ASSUMED height)",
+            f"formwork column {b.formwork_m:g} m high on the line of the inner face (ASSUMED height), "
+            + ("part of the innermost crest block, massless (S-OET 5.2: fixed to the inward wall face; "
+               "ASSUMED massless)" if b.formwork == "crest" else
+               "fixed in space (the site's, carried by the side formworks; not S-OET's)"),
             f"local frictions ours (grain {b.grain_friction_deg:g}, interface {b.interface_friction_deg:g}, "
             f"placement {b.placement_friction_deg:g} deg; paper's 45, 25, 15.6 for PFC2D clumps): "
             "docs/validation/gravel_calibration.md",
@@ -137,7 +140,8 @@ def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None
     from viz.figures import plot_drystone_mechanism, plot_series
 
     st, co = result["stages"], result["coulomb"]["rows"]
-    keys = ["backfill_height_m", "thrust_N_m", "thrust_vertical_N_m", "thrust_height_m", "container_vertical_N_m",
+    keys = ["backfill_height_m", "thrust_N_m", "thrust_vertical_N_m", "thrust_height_m", "formwork_thrust_N_m",
+            "container_vertical_N_m",
             "wall_vertical_N_m", "fill_weight_N_m", "grains", "held", "crest_displacement_m", "settled", "time_s"]
     folder.write_csv("stages.csv", keys + ["coulomb_thrust_N_m", "coulomb_thrust_height_m"],
                      [[r[k] for k in keys] + [c["thrust_N_m"], c["thrust_height_m"]] for r, c in zip(st, co)])

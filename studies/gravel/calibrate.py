@@ -169,7 +169,8 @@ def biaxial_summary(tests: list[dict], target: float) -> dict:
 
 def run_calibration(plan: GravelCalibration, bar=None) -> dict:
     """Both series (as ``plan.tests`` asks); the result without files."""
-    out = {"paper_local": {"grain_friction_deg": PAPER_GRAIN_FRICTION_DEG,
+    out = {"grain_shape": plan.gravel.shape,
+           "paper_local": {"grain_friction_deg": PAPER_GRAIN_FRICTION_DEG,
                            "interface_friction_deg": PAPER_INTERFACE_FRICTION_DEG},
            "targets": {"phi_peak_deg": plan.target_peak_deg, "phi_cs_deg": TARGET_CRITICAL_DEG,
                        "interface_angle_deg": plan.target_interface_deg}}

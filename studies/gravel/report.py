@@ -23,8 +23,8 @@ def write_figures(folder, result: dict) -> list[str]:
         plot_biaxial({f"local {t['friction_deg']:g} deg, seed {t['seed']}":
                       (t["curve"]["eps_axial"], _smooth(t["curve"]["sigma_1"], t), _smooth(t["curve"]["sigma_3"], t),
                        t["curve"]["eps_vol"]) for t in b["tests"]}, folder.file("biaxial.png"),
-                     title="Gravel biaxial, 35 kPa (capsules AR 2.5, 10-16 mm); stresses averaged over 1 % strain, "
-                           "as the peak is read")
+                     title=f"Gravel biaxial, 35 kPa ({result.get('grain_shape', 'capsule')} AR 2.5, 10-16 mm); "
+                     "stresses averaged over 1 % strain, as the peak is read")
         mus = [r["friction_deg"] for r in b["rows"]]
         t = result["targets"]
         plot_series(mus, {"peak (seed mean)": [r["phi_peak_deg"] for r in b["rows"]],
@@ -75,9 +75,14 @@ def _f(x, fmt=".1f") -> str:
     return "n/a" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
 
 
+#: how the report names each grain shape of ``dem2d.gravel``
+SHAPE_WORDS = {"capsule": "rigid capsules", "clump3": "rigid three-circle clumps", "hexagon": "rigid rounded hexagons"}
+
+
 def markdown(result: dict) -> str:
     """The report: paper's local values and ours, both series, settings."""
     p, t = result["paper_local"], result["targets"]
+    grains = SHAPE_WORDS[result.get("grain_shape", "capsule")]
     b, i = result.get("biaxial"), result.get("interface")
     def ours(part, key):
         if not part:
@@ -87,9 +92,9 @@ def markdown(result: dict) -> str:
                                           f" (target not reached: closest global {c['closest_global_deg']:.1f} deg)")
     lines = ["# Case-B gravel: local frictions calibrated against the global targets", "",
              f"`{result['command']}` (git {result['git']}). S-OET tuned local values for PFC2D's soft clumps; "
-             "rigid capsules need their own, calibrated as S-OET did against the global targets "
+             f"{grains} need their own, calibrated as S-OET did against the global targets "
              "(Colas's triaxial at 35 kPa; S-OET's interface test).", "",
-             "| value | paper's local (PFC2D) | ours (rigid capsules, pymunk) | global target |", "|---|---|---|---|",
+             f"| value | paper's local (PFC2D) | ours ({grains}, pymunk) | global target |", "|---|---|---|---|",
              f"| grain-grain friction | {p['grain_friction_deg']:g} deg | "
              f"{ours(b, 'grain_friction_deg')} | peak {t['phi_peak_deg']:g} deg at 35 kPa |",
              f"| fill-block (interface) friction | {p['interface_friction_deg']:g} deg | "

@@ -76,3 +76,39 @@ def test_settled_fill_is_carried_by_the_box(box):
     w = box.weight()
     assert fy == pytest.approx(w, rel=0.01)
     assert abs(fx) < 0.01 * w
+
+
+@pytest.mark.parametrize("shape", ["capsule", "clump3", "hexagon"])
+def test_grain_shapes_fill_the_AR_envelope_with_their_area_and_inertia(shape):
+    """Every shape of the probe spans AR w x w (issue 24: AR 2.5), and its body's mass and
+    moment are those of its outline (density x area; sum of r^2 dm), counted here by
+    Monte Carlo on pymunk's own point queries (independent of ``grain_area``): within 1 %."""
+    from dem2d.gravel import add_grains, grain_area
+    g, w = Gravel(shape=shape), 0.013
+    space = pymunk.Space()
+    body = add_grains(space, [(0.0, 0.0)], [0.0], [w], g, 1.0)[0]
+    bbs = [s.cache_bb() for s in body.shapes]
+    assert max(b.right for b in bbs) - min(b.left for b in bbs) == pytest.approx(g.aspect_ratio * w, rel=1e-9)
+    assert max(b.top for b in bbs) - min(b.bottom for b in bbs) == pytest.approx(w, rel=1e-9)
+    rng = np.random.default_rng(0)
+    p = rng.uniform([-g.aspect_ratio * w / 2, -w / 2], [g.aspect_ratio * w / 2, w / 2], (40000, 2))
+    inside = np.array([any(s.point_query(tuple(q)).distance <= 0 for s in body.shapes) for q in p])
+    box = g.aspect_ratio * w * w
+    area = inside.mean() * box
+    assert float(grain_area(w, g.aspect_ratio, shape)) == pytest.approx(area, rel=0.01)
+    assert body.mass == pytest.approx(g.density * area, rel=0.01)
+    moment = g.density * box * (p[inside] ** 2).sum() / len(p)
+    if shape == "capsule":
+        # pymunk's moment_for_segment is that of the L x w rectangle, (L^2 + w^2) / 12 per
+        # unit mass: 15 % above the capsule's own at AR 2.5 (kept: the calibration ran on it)
+        assert body.moment == pytest.approx(body.mass * (g.aspect_ratio ** 2 + 1) * w * w / 12, rel=1e-9)
+        assert body.moment == pytest.approx(1.15 * moment, rel=0.01)
+    else:
+        assert body.moment == pytest.approx(moment, rel=0.01)
+
+
+def test_clump_needs_overlapping_circles():
+    with pytest.raises(InvalidParameter, match="aspect_ratio"):
+        Gravel(shape="clump3", aspect_ratio=3.0)
+    with pytest.raises(InvalidParameter, match="shape"):
+        Gravel(shape="star")

@@ -49,6 +49,7 @@ def test_output_names_paper_and_our_values(result):
     rows = json.loads(open(f"{folder}/result.json").read())["stages"]
     assert len(rows) == len(result["stages"])
     assert any("ASSUMED" in a for a in result["assumptions"])
+    assert any("part of the innermost crest block" in a for a in result["assumptions"])   # S-OET 5.2
 
 
 def test_bad_case_b_settings_name_their_key():
@@ -57,5 +58,9 @@ def test_bad_case_b_settings_name_their_key():
     cmd = get("drystone").commands[0]
     with pytest.raises(InvalidParameter, match="backfill.slope_deg"):
         cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.slope_deg=70"])
+    with pytest.raises(InvalidParameter, match="backfill.formwork = .*crest | fixed"):
+        cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.formwork=wooden"])
+    with pytest.raises(InvalidParameter, match="backfill.grain_shape = .*capsule | clump3 | hexagon"):
+        cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.grain_shape=star"])
     with pytest.raises(InvalidParameter, match="geometry"):
         cmd.resolve(flags={"wall": "C3S", "geometry": "disk-count"})
