@@ -77,8 +77,8 @@ COMPARE = Command(
     options=(
         Option("--freq", "base-motion frequency, prototype [Hz] (5)", key="frequency",
                parse=number("freq", 0.0, 20.0, unit="Hz")),
-        Option("--resolution", "coarse (grains x 2) or paper (1.5-2.5 mm grains) (coarse)", key="resolution",
-               choices=("coarse", "paper")),
+        Option("--resolution", "coarse (grains x 3), medium (x 2) or paper (1.5-2.5 mm grains) (coarse)",
+               key="resolution", choices=("coarse", "medium", "paper")),
         Option("--rrd", "write a recording (recording.rrd in the run folder, or FILE)", metavar="FILE",
                parse=output_file("rrd", (".rrd",)), optional=True),
     ))
