@@ -72,6 +72,14 @@ def time_step(case: SeismicCase, law, *, bonds: bool = True) -> float:
     return case.dt_fraction * (min(crit, bond_critical_step(case)) if bonds else crit)
 
 
+def wall_period(case: SeismicCase) -> float:
+    """First-mode period [s] of the wall as a free cantilever of its whole length:
+    T = 2 pi / 1.875^2 sqrt(m L^4 / EI), m and EI per width (the paper's 12 kg/m^2 and
+    416.7 N m^2/m). The embedded wall is stiffer, so this bounds its period from above."""
+    ei = wall_youngs_effective(case) * (2.0 * case.wall_ball) ** 3 / 12.0
+    return 2.0 * math.pi / 1.875 ** 2 * math.sqrt(case.wall_mass_per_area * case.wall_length ** 4 / ei)
+
+
 def bond_critical_step(case: SeismicCase) -> float:
     """sqrt(m / (kn A)) and sqrt(I / (kn I_b)) of one wall bond (dem3d's bond rule) [s]."""
     prm = calibrate_strip(wall_youngs_effective(case), 2.0 * case.wall_ball)
