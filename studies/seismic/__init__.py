@@ -8,9 +8,12 @@ cached; the shaking), ``measures`` (wall, faces, moments, settlement, Mononobe-O
 ``compare`` (one frequency: run folder, tables, figures, recording). Data and every
 assumption: ../shared/reference/seismic-sheetpile.md, reference.json.
 
-Not done yet (issue 26): ``validate`` over 1, 3, 4, 5, 6 Hz and docs/validation/seismic.*,
-the shear-strain field (Fig. 7), K against rotation (Fig. 4) as a figure, the triaxial
-check of phi ~ 31 deg and the Vs check in the free-field column.
+``material`` measures Vs / f0 of the free-field columns and phi from a triaxial at the
+case's contact parameters; ``validate`` runs the paper's frequencies and writes
+docs/validation/seismic.{md,json}.
+
+Not done yet (issue 26): the shear-strain field (Fig. 7), K against rotation (Fig. 4) as
+a figure, how the results move between two resolutions.
 """
 
 from __future__ import annotations
