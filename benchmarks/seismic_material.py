@@ -27,7 +27,9 @@ def main() -> dict:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--resolution", default="coarse")
     ap.add_argument("--runs", default="runs", help="root of the run folders (the static state's cache)")
-    ap.add_argument("--confining", default="35,70,140", help="triaxial confining stresses [kPa]")
+    ap.add_argument("--triaxials", default="70:0.5,70:0.1,140:0.5",
+                    help="triaxials as confining [kPa]:compaction friction (the friction while compacting sets "
+                         "the porosity; the test itself runs at the case's friction)")
     ap.add_argument("--particles", type=int, default=2000)
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
@@ -45,14 +47,18 @@ def main() -> dict:
         c0 = time.process_time()
         out[f"column_{name}"] = shear_wave(case, arrays, height) | {"height_m_prototype": height * case.scale_N,
                                                                      "cpu_s": time.process_time() - c0}
-        print(name, {k: out[f"column_{name}"][k] for k in ("Vs_m_per_s", "f0_Hz_prototype", "Vs_from_f0_m_per_s")},
+        print(name, {k: out[f"column_{name}"][k] for k in ("f0_Hz_prototype", "Vs_from_f0_m_per_s")},
               flush=True)
     out["triaxial"] = []
-    for kpa in (float(v) for v in args.confining.split(",")):
+    for item in args.triaxials.split(","):
+        kpa, mu_c = (float(v) for v in item.split(":"))
         c0 = time.process_time()
-        tx = triaxial(case, confining=kpa * 1e3, particles=args.particles) | {"cpu_s": time.process_time() - c0}
+        tx = triaxial(case, confining=kpa * 1e3, particles=args.particles, compaction_friction=mu_c) | {
+            "cpu_s": time.process_time() - c0}
         out["triaxial"].append(tx)
-        print(kpa, {k: tx[k] for k in ("phi_peak_deg", "phi_end_deg", "porosity", "cpu_s")}, flush=True)
+        print(kpa, mu_c, {k: tx[k] for k in ("phi_peak_deg", "phi_end_deg", "porosity", "cpu_s")}, flush=True)
+        if args.out:                                  # what is done so far survives an interruption
+            Path(args.out).write_text(json.dumps(out, indent=1) + "\n")
     out["versions"] = package_versions()
     text = json.dumps(out, indent=1)
     if args.out:

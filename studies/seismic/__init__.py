@@ -73,9 +73,11 @@ COMPARE = Command(
     description="A cantilever sheet pile of bonded balls retaining 9 m of dry sand over 6 m (prototype), "
                 "a 50 g model with free-field lateral boundaries, the base shaken by a 0.1 g sinusoid "
                 "(3 s ramp, 4 s hold, 1 s decay). Results in prototype units with Mononobe-Okabe. "
-                "Not yet validated (issue 26): tested on small models only; the coarse resolution "
-                "(~51k spheres) is estimated at about 1 h of CPU for the shaking alone, the paper's at "
-                "13-29 h. Example: wallsim compare seismic --freq 5 --resolution coarse",
+                "Not yet validated (issue 26): at the default contact parameters the soil's phi is ~18 deg "
+                "(paper ~31) and the wall fails statically in the first second (docs/validation/seismic.md). "
+                "The coarse resolution (~15k spheres) took 21 min of one core at 5 Hz (static state 3 min, "
+                "cached for other frequencies); medium ~1.5 h, paper ~31 h (estimated). "
+                "Example: wallsim compare seismic --freq 5 --resolution coarse",
     default_case=_default_case, run=_compare, text=_text, busy_note=True,
     options=(
         Option("--freq", "base-motion frequency, prototype [Hz] (5)", key="frequency",
