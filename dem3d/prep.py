@@ -165,12 +165,18 @@ class SettleResult(NamedTuple):
 
 
 def settle(sim: Simulation, *, ratio: float = 1e-3, check_every: int = 200, max_steps: int = 200_000,
-           min_steps: int = 0, trace: list | None = None) -> SettleResult:
+           min_steps: int = 0, trace: list | None = None, energy: float | None = None) -> SettleResult:
     """Step ``sim`` (particles falling and settling under gravity: raining when the
     specimen was generated above its final height) until PFC's unbalanced-force ratio
     (dem3d.measure.unbalanced_force_ratio) falls below ``ratio``, checked every
     ``check_every`` steps after ``min_steps``. Local damping, if wanted, is set on the
     contact parameters beforehand (``dem3d.params.with_local_damping``).
+
+    ``energy`` [J], if given, is a second way to converge: the kinetic energy below it.
+    The ratio is a mean over bodies, so a few grains that keep bouncing on the surface
+    (rattlers; at high gravity they never come to rest) hold it up while the packing
+    itself no longer moves; an energy bound says how much motion is left without that
+    bias (e.g. a fraction of N m g d: each grain's energy of a drop of one diameter).
 
     ``trace``, if given, gets one (steps taken, ratio, kinetic energy [J]) per check: how
     a stage approached (or missed) its ratio, for reports on preparation time."""
@@ -188,4 +194,6 @@ def settle(sim: Simulation, *, ratio: float = 1e-3, check_every: int = 200, max_
             trace.append((taken, current, kinetic_energy(sim)))
         if current < ratio:
             return SettleResult(taken, current, kinetic_energy(sim), True)
+        if energy is not None and (ke := kinetic_energy(sim)) < energy:
+            return SettleResult(taken, current, ke, True)
     return SettleResult(taken, current, kinetic_energy(sim), False)

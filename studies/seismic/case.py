@@ -28,8 +28,10 @@ from analytic.inputs import require_number
 
 G = 9.81
 
-#: grain_scale of each resolution preset (coarse: 2x the paper's grains, ~1/8 the spheres)
-RESOLUTIONS = {"coarse": 2.0, "paper": 1.0}
+#: grain_scale of each resolution preset: coarse 3x the paper's grains (~15k spheres, the
+#: default: one frequency in < 30 min on one core; 3 is the largest the 3 cm periodic slab
+#: admits), medium 2x (~51k), paper 1x (~3.6e5)
+RESOLUTIONS = {"coarse": 3.0, "medium": 2.0, "paper": 1.0}
 
 #: prototype frequencies the paper reports (Hz)
 PAPER_FREQUENCIES = (1.0, 3.0, 4.0, 5.0, 6.0)
@@ -45,7 +47,7 @@ class SeismicCase:
     ramp_s, hold_s, decay_s: envelope of the base motion, prototype [s] (3, 4, 1; linear ramps [A])
     end_s:                analysis length from the start of shaking, prototype [s] (9)
     scale_N:              g-level N of the centrifuge model (50)
-    resolution:           coarse | paper: the grain_scale preset (coarse 2, paper 1)
+    resolution:           coarse | medium | paper: the grain_scale preset (3, 2, 1)
     grain_scale:          0 = from resolution; else grains and wall balls x this
     retained_height:      soil height behind the wall [m] (0.18)
     front_height:         soil height in front after excavation [m] (0.12)
@@ -58,9 +60,12 @@ class SeismicCase:
     porosity:             target porosity of the deposit (0.40)
     shear_modulus, poisson: grain elastic constants for Hertz-Mindlin [Pa], [-] (29 GPa, 0.15 [A])
     friction:             inter-particle and wall-soil friction coefficient (0.5 [A])
-    deposition_friction:  friction while the deposit is rained (sets its porosity [A])
+    deposition_friction:  friction while the deposit is rained (sets its porosity [A]; 0.5, the grains'
+                          own, gives ~0.40)
+    deposition_damping:   viscous contact damping while raining, fraction of critical (0.5 [A]: the
+                          landing grains' energy is dissipated in their first contacts)
     damping_ratio:        viscous contact damping, fraction of critical (0.05 [A])
-    softening:            grain moduli / this while raining (a sqrt(.) larger step)
+    softening:            grain moduli / this while raining (a sqrt(.) larger step; 100)
     wall_youngs:          sheet-pile Young's modulus [Pa] (40 GPa)
     wall_thickness:       at the paper's resolution [m] (5e-3; two sheets of 2.5 mm balls)
     wall_mass_per_area:   [kg/m^2] (12: 2400 kg/m^3 x 5 mm)
@@ -71,6 +76,9 @@ class SeismicCase:
     free_field_every:     steps between refreshes of the free-field state (20)
     dt_fraction:          time step / critical step (0.2, dem3d's limit)
     settle_ratio:         unbalanced-force ratio ending each static stage (1e-2: rattlers keep bouncing at N g)
+    rain_energy:          kinetic energy per grain ending the rain, in m g d_mean (1e-3)
+    settle_energy:        kinetic energy per grain ending a static stage, in m g d_mean, when the
+                          ratio is held up by rattlers (1e-4)
     static_time:          longest static stage (wall installed, front excavated), model [s] (0.05)
     record_every:         time between readings of the dynamic stage, prototype [s] (0.02)
     seed:                 random seed of the deposit
@@ -83,7 +91,7 @@ class SeismicCase:
     decay_s: float = 1.0
     end_s: float = 9.0
     scale_N: float = 50.0
-    resolution: Literal["coarse", "paper"] = "coarse"
+    resolution: Literal["coarse", "medium", "paper"] = "coarse"
     grain_scale: float = 0.0
     retained_height: float = 0.18
     front_height: float = 0.12
@@ -98,9 +106,10 @@ class SeismicCase:
     shear_modulus: float = 29e9
     poisson: float = 0.15
     friction: float = 0.5
-    deposition_friction: float = 0.1
+    deposition_friction: float = 0.5
+    deposition_damping: float = 0.5
     damping_ratio: float = 0.05
-    softening: float = 10.0
+    softening: float = 100.0
     wall_youngs: float = 40e9
     wall_thickness: float = 5e-3
     wall_mass_per_area: float = 12.0
@@ -111,6 +120,8 @@ class SeismicCase:
     free_field_every: int = 20
     dt_fraction: float = 0.2
     settle_ratio: float = 1e-2
+    rain_energy: float = 1e-3
+    settle_energy: float = 1e-4
     static_time: float = 0.05
     record_every: float = 0.02
     seed: int = 1
@@ -138,7 +149,10 @@ class SeismicCase:
         require_number("poisson", self.poisson, 0.0, 0.5)
         for name in ("friction", "deposition_friction", "boundary_friction"):
             require_number(name, getattr(self, name), 0.0, 2.0, lo_open=False)
-        require_number("damping_ratio", self.damping_ratio, 0.0, 1.0, lo_open=False)
+        for name in ("damping_ratio", "deposition_damping"):
+            require_number(name, getattr(self, name), 0.0, 1.0, lo_open=False)
+        for name in ("rain_energy", "settle_energy"):
+            require_number(name, getattr(self, name), 0.0, 1.0, unit="m g d_mean per grain")
         require_number("column_length", self.column_length, 4.0, 100.0, lo_open=False, unit="grain diameters")
         require_number("slice_grains", self.slice_grains, 1.0, 20.0, lo_open=False, unit="grain diameters")
         require_number("segment_mass_grains", self.segment_mass_grains, 0.0, 10.0, unit="grain masses")

@@ -3,9 +3,10 @@
 Stages:
 
 1. ``rain_deposit``: grains generated loosely (random sequential addition) in a box,
-   rained and packed under N g with softened moduli and ``deposition_friction``
-   (a larger time step; the porosity is set by that friction), then the real moduli
-   and friction restored and settled; grains above the surface height trimmed. Used for
+   rained and packed under N g with softened moduli, ``deposition_friction`` and heavy
+   contact damping (a larger time step; the porosity is set by the friction), then the
+   moduli raised step by step to the grains' and settled, each step ended by an
+   unbalanced-force or kinetic-energy criterion; grains above the surface trimmed. Used for
    the main deposit (periodic across y, rigid ends in x) and for each free-field column
    (periodic along x, frictionless side walls in y [A]).
 2. ``install_wall``: the sheet pile wished in place: grains overlapping its volume are
@@ -38,11 +39,9 @@ from .case import SeismicCase, wall_ball_density, wall_youngs_effective
 _GENERATION_SOLIDS = 0.22
 
 
-def contact_law(case: SeismicCase, *, softened: bool = False, friction: float | None = None,
-                local_damping: float = 0.0):
+def contact_law(case: SeismicCase, *, friction: float | None = None, local_damping: float = 0.0):
     """Hertz-Mindlin with the grains' G and nu [A], viscous damping ``damping_ratio``."""
-    shear = case.shear_modulus / (case.softening if softened else 1.0)
-    youngs = 2.0 * shear * (1.0 + case.poisson)
+    youngs = 2.0 * case.shear_modulus * (1.0 + case.poisson)
     mu = case.friction if friction is None else friction
     return hertz_mindlin(youngs, case.poisson, mu, zeta_n=case.damping_ratio, zeta_s=case.damping_ratio,
                          local_damping=local_damping)
@@ -58,6 +57,12 @@ def grain_mass(case: SeismicCase) -> float:
     return case.grain_density * mean_grain_volume(case)
 
 
+def settle_energy(case: SeismicCase, n_grains: int, fraction: float) -> float:
+    """``fraction`` x N m g d_mean [J]: the kinetic-energy bound of a settling stage
+    (each of N grains' energy of a drop of one mean diameter at N g, times fraction)."""
+    return fraction * n_grains * grain_mass(case) * case.gravity * case.d_mean
+
+
 def time_step(case: SeismicCase, law, *, bonds: bool = True) -> float:
     """dt_fraction x the smallest critical step: the grains' Hertz (Rayleigh) step and,
     with ``bonds``, the wall bonds' step with the wall balls' own density."""
@@ -65,6 +70,14 @@ def time_step(case: SeismicCase, law, *, bonds: bool = True) -> float:
     m_min = case.grain_density * 4.0 / 3.0 * math.pi * r_min ** 3
     crit = dem3d.critical_time_step(law, m_min, r_min, case.grain_density)
     return case.dt_fraction * (min(crit, bond_critical_step(case)) if bonds else crit)
+
+
+def wall_period(case: SeismicCase) -> float:
+    """First-mode period [s] of the wall as a free cantilever of its whole length:
+    T = 2 pi / 1.875^2 sqrt(m L^4 / EI), m and EI per width (the paper's 12 kg/m^2 and
+    416.7 N m^2/m). The embedded wall is stiffer, so this bounds its period from above."""
+    ei = wall_youngs_effective(case) * (2.0 * case.wall_ball) ** 3 / 12.0
+    return 2.0 * math.pi / 1.875 ** 2 * math.sqrt(case.wall_mass_per_area * case.wall_length ** 4 / ei)
 
 
 def bond_critical_step(case: SeismicCase) -> float:
@@ -93,7 +106,19 @@ def rain_deposit(case: SeismicCase, rng: np.random.Generator, lo, hi, height: fl
                  *, progress=None) -> Deposit:
     """Grains filling the box [lo, hi] (x, y) to ``height`` at the case's porosity
     (stage 1 of the module docstring). ``periodic_axis`` 1 (main model: walls at x lo/hi)
-    or 0 (column: walls at y lo/hi)."""
+    or 0 (column: walls at y lo/hi).
+
+    Three steps, each ended by a criterion rather than a fixed duration (rattlers keep
+    bouncing at N g, so the unbalanced-force ratio alone may never converge; a bound on
+    the kinetic energy per grain, in units of m g d_mean, ends a step as well):
+    (a) rain: moduli / ``softening``, ``deposition_friction``, contact damping
+        ``deposition_damping`` and no local damping (local damping would slow the free
+        fall itself), until the kinetic energy is below ``rain_energy`` m g d per grain;
+    (b) stiffen: the moduli raised to the grains' in ``_STIFFEN_STAGES`` geometric steps,
+        each one shear-wave transit of the deposit long, local damping 0.7 (a single jump
+        would release the soft overlaps' elastic energy at once and loosen the packing);
+    (c) settle at the real contact law until the ratio is below ``settle_ratio`` or the
+        kinetic energy below ``settle_energy`` m g d per grain."""
     lo = np.array([lo[0], lo[1], 0.0])
     hi = np.array([hi[0], hi[1], height])
     volume = float(np.prod(hi - lo))
@@ -104,16 +129,28 @@ def rain_deposit(case: SeismicCase, rng: np.random.Generator, lo, hi, height: fl
     walls = [Wall("base", plane((0, 0, 0), (0, 0, 1), mu=case.boundary_friction)),
              Wall("side_lo", plane(tuple(lo), tuple(np.eye(3)[side]), mu=0.0)),
              Wall("side_hi", plane(tuple(hi), tuple(-np.eye(3)[side]), mu=0.0))]
-    soft = contact_law(case, softened=True, friction=case.deposition_friction, local_damping=0.7)
+    rain = _deposition_law(case, case.softening, case.deposition_friction, 0.0)
     period = Periodic(ax, float(lo[ax]), float(hi[ax] - lo[ax]))
     g = (0.0, 0.0, -case.gravity)
-    sim = Simulation(spec, soft, dt=time_step(case, soft, bonds=False), walls=walls, periodic=period, gravity=g)
+    sim = Simulation(spec, rain, dt=time_step(case, rain, bonds=False), walls=walls, periodic=period, gravity=g)
     fall = math.sqrt(2.0 * gen_hi[2] / case.gravity) / sim.dt        # steps of a free fall from the top
-    res1 = settle(sim, ratio=case.settle_ratio, max_steps=int(2.5 * fall), min_steps=int(fall), check_every=500)
+    res1 = settle(sim, ratio=case.settle_ratio, energy=settle_energy(case, n, case.rain_energy),
+                  max_steps=int(4 * fall),
+                  min_steps=int(fall), check_every=500)
+    stiffen = 0
+    for k in range(1, _STIFFEN_STAGES + 1):
+        law = _deposition_law(case, case.softening ** (1.0 - k / _STIFFEN_STAGES), case.friction, 0.7)
+        sim.dt = time_step(case, law, bonds=False)
+        sim.set_params(law)
+        todo = int(math.ceil(height / _VS_NOMINAL / sim.dt))
+        sim.step(todo)
+        stiffen += todo
     firm = contact_law(case, local_damping=0.7)
     sim.dt = time_step(case, firm, bonds=False)
     sim.set_params(firm)
-    res2 = settle(sim, ratio=case.settle_ratio, max_steps=int(3 * fall), min_steps=500, check_every=500)
+    res2 = settle(sim, ratio=case.settle_ratio, energy=settle_energy(case, n, case.settle_energy),
+                  max_steps=int(2 * fall),
+                  min_steps=500, check_every=500)
     x = sim.spheres.x[np.argsort(sim.original_index)]
     r = sim.spheres.r[np.argsort(sim.original_index)]
     keep = x[:, 2] <= height
@@ -121,7 +158,22 @@ def rain_deposit(case: SeismicCase, rng: np.random.Generator, lo, hi, height: fl
     box_lo, box_hi = lo.copy(), hi.copy()
     box_hi[2] = height - case.d_mean           # a layer clear of the trimmed surface
     n_box = _porosity(x, r, box_lo, box_hi, ax, float(hi[ax] - lo[ax]))
-    return Deposit(x, r, tuple(lo), tuple(hi), n_box, res1.steps + res2.steps, (res1, res2))
+    return Deposit(x, r, tuple(lo), tuple(hi), n_box, res1.steps + stiffen + res2.steps, (res1, res2))
+
+
+#: geometric steps from the softened to the real moduli after raining
+_STIFFEN_STAGES = 8
+#: shear-wave speed [m/s] setting the length of each stiffening step (one transit of the
+#: deposit height; the paper's low-strain Vs, Table 1)
+_VS_NOMINAL = 210.0
+
+
+def _deposition_law(case: SeismicCase, softening: float, friction: float, local_damping: float):
+    """Hertz-Mindlin with the grains' moduli / ``softening`` and the deposition's contact
+    damping (``deposition_damping`` of critical: the grains' landing energy goes there)."""
+    youngs = 2.0 * case.shear_modulus / softening * (1.0 + case.poisson)
+    return hertz_mindlin(youngs, case.poisson, friction, zeta_n=case.deposition_damping,
+                         zeta_s=case.deposition_damping, local_damping=local_damping)
 
 
 def _generate(case: SeismicCase, rng, lo, hi, n: int, height: float):

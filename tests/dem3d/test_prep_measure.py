@@ -92,6 +92,29 @@ def test_settle_reaches_the_unbalanced_force_ratio_and_the_pile_is_static():
     assert bound < 0.05 * weight
 
 
+def test_settle_stops_on_the_kinetic_energy_bound_when_the_ratio_is_out_of_reach():
+    """With ``energy`` settle() also stops at the first check where the kinetic energy
+    (dem3d.measure.kinetic_energy) is below the bound, as a deposit whose rattlers hold
+    the ratio up must: every earlier check was above it, the returned energy is the
+    state's. Without the bound the same run does not converge (ratio 1e-12 is never met)."""
+    lo, hi = np.array([0.0, 0.0, 0.0]), np.array([0.3, 0.2, 0.4])
+
+    def pile():
+        spec = prep.random_specimen(np.random.default_rng(5), lo, hi, 150, 0.03, 0.045)
+        return Simulation(spec, linear(1e5, 4e4, 0.5, zeta_n=0.3, zeta_s=0.3), dt=4e-5,
+                          walls=[Wall("box", box(lo, (0.3, 0.2, 1.0), mu=0.3, periodic_axis=1))],
+                          periodic=Periodic(1, 0.0, 0.2))
+    sim = pile()
+    bound = 1e-4 * 150 * 2650 * math.pi / 6 * 0.0375 ** 3 * 9.81 * 0.0375      # 1e-4 N m g d [J]
+    trace = []
+    result = prep.settle(sim, ratio=1e-12, energy=bound, check_every=1000, max_steps=200_000, trace=trace)
+    assert result.converged and result.kinetic_energy < bound
+    assert result.kinetic_energy == measure.kinetic_energy(sim)
+    assert all(row[2] >= bound for row in trace[:-1])
+    capped = prep.settle(pile(), ratio=1e-12, check_every=1000, max_steps=result.steps)
+    assert not capped.converged
+
+
 def test_force_chains_keep_contacts_above_the_mean():
     rng = np.random.default_rng(1)
     a = rng.random((20, 3))

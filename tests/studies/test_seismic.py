@@ -69,7 +69,9 @@ def test_static_wall_deflects_toward_the_excavation(tiny):
     its top by K_a gamma h^5 / (30 EI); a wall embedded in soil, whose load cannot be less
     than active, deflects more (its support yields). And the wall is in horizontal
     equilibrium: the soil's thrusts on its two faces balance (the paper: "equal and
-    opposite")."""
+    opposite"); each reading is scattered by ~20 % by rattling grains at this size, so
+    the means of 15 readings of the static state held (base fixed, 300 steps apart) are
+    compared, within 15 % (about twice the scatter of a difference of two such means)."""
     case, prep = tiny
     x0 = np.array(prep.info["x_wall_before_excavation"])[:, 0]
     rows = prep.model.wall_row
@@ -81,9 +83,26 @@ def test_static_wall_deflects_toward_the_excavation(tiny):
     gamma = case.grain_density * (1 - prep.info["porosity"]) * case.gravity
     clamped = 0.320 * gamma * h ** 5 / (30 * 416.7)
     assert top > clamped
-    assert abs(r.thrust_back - r.thrust_front) < 0.2 * r.thrust_back
-    print(f"static top {top * 1e3:.3f} mm (clamped beam {clamped * 1e3:.4f} mm); thrust back "
-          f"{r.thrust_back:.1f} front {r.thrust_front:.1f} N/m")
+    back, front = _held_thrusts(case, prep, 15, 300)
+    assert abs(back - front) < 0.15 * back
+    print(f"static top {top * 1e3:.3f} mm (clamped beam {clamped * 1e3:.4f} mm); mean thrust back "
+          f"{back:.1f} front {front:.1f} N/m")
+
+
+def _held_thrusts(case, prep, count, every):
+    """Mean back and front thrusts [N/m] of ``count`` readings ``every`` steps apart of the
+    static state held: base and boundaries fixed, no local damping."""
+    from dem3d import Simulation
+    from studies.seismic import model as M
+    from studies.seismic.measures import wall_reading
+    sim = Simulation.from_arrays(prep.main, walls=M.boundary_walls(case))
+    sim.set_params(M.contact_law(case), allow_unsafe_dt=True)
+    sim.evaluate_forces()
+    readings = []
+    for _ in range(count):
+        readings.append(wall_reading(sim, case, prep.model))
+        sim.step(every)
+    return np.mean([r.thrust_back for r in readings]), np.mean([r.thrust_front for r in readings])
 
 
 def test_thrusts_on_the_two_faces_stay_equal_and_opposite_while_shaken(tiny):
@@ -124,3 +143,20 @@ def test_mononobe_okabe_overlay_is_the_references_table():
     for key, name in (("active_static", "K_A"), ("active_MO", "K_AE"), ("passive_static", "K_P"),
                       ("passive_MO", "K_PE")):
         assert mo[key].K == pytest.approx(ref[name], abs=0.005 * max(1.0, ref[name]))
+
+
+def test_the_free_field_columns_shear_wave_speed_is_the_papers_scaled_to_its_height(tiny):
+    """Table 1 of Sizkow & El Shamy: Vs = 210 m/s for the 9 m (prototype) deposit, f0 =
+    Vs / 4H = 5.8 Hz. A Hertzian packing's Vs grows as the mean stress to the 1/6 (the
+    contact stiffness ~ F^(1/3)), so the tiny case's 3 m column (6 cm model) should have
+    210 (3 / 9)^(1/6) = 175 m/s. Measured from its fundamental frequency after a small base
+    pulse (studies.seismic.material.shear_wave: Vs_f0 = 4 H f0); the contact parameters
+    are the case's defaults, not tuned to this. Within 25 % (the spectrum's resolution at
+    this size is ~5 % of f0, the grain-scale column only 10 grains high)."""
+    from studies.seismic.material import shear_wave
+    case, prep = tiny
+    r = shear_wave(case, prep.columns[1], case.retained_height)
+    expected = 210.0 * (case.retained_height * case.scale_N / 9.0) ** (1 / 6)
+    print(f"tiny column: f0 {r['f0_Hz_prototype']:.2f} Hz (prototype), Vs_f0 {r['Vs_from_f0_m_per_s']:.0f} m/s, "
+          f"expected {expected:.0f}")
+    assert r["Vs_from_f0_m_per_s"] == pytest.approx(expected, rel=0.25)

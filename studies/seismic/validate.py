@@ -1,0 +1,200 @@
+"""``wallsim validate seismic``: the paper's frequencies (1, 3, 4, 5, 6 Hz prototype) one
+after the other at one resolution, then docs/validation/seismic.{md,json} in the issue's
+format: per frequency the wall's residual displacement, rotation and pivot, moments over
+static, the passive K at 1.5 m below the dredge line, settlement at the wall and beyond
+8 m, wall time; each of the paper's trends (reference section 7) stated as held, not held
+or not run (a trend over frequencies needs all of them). Frequencies not run are listed
+as not run, never filled in.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..runfolder import git_revision, package_versions
+from .case import PAPER_FREQUENCIES, SeismicCase
+
+#: per-frequency keys of seismic.json (the issue's list)
+KEYS = ("top_displacement_m", "rotation_deg", "pivot_height_over_wall_length", "residual_moment_over_static",
+        "max_moment_over_static", "passive_K_max_at_1_5m", "settlement_at_wall_m", "settlement_at_8m_m",
+        "wall_time_s")
+
+#: "near the base": the residual rotation's pivot within this fraction of the wall length
+#: of the toe (the paper: "a pivot point near the bottom of the wall") [A]
+PIVOT_NEAR_BASE = 0.3
+#: "equal and opposite": the two faces' mean thrusts over the record within this fraction
+THRUST_BALANCE = 0.15
+#: "~0 beyond 8 m": mean settlement beyond 8 m below this fraction of the one at the wall
+FAR_SETTLEMENT = 0.2
+
+
+def validate_seismic(case: SeismicCase, *, frequencies=PAPER_FREQUENCIES, out_dir: Path = Path("docs/validation"),
+                     root: Path = Path("runs"), progress=None, log=print) -> dict:
+    from .compare import compare_seismic
+    folders = {}
+    for f in frequencies:
+        log(f"seismic: {f:g} Hz")
+        _, folder = compare_seismic(dataclasses.replace(case, frequency=float(f)), root=root, record=f == 5.0,
+                                    progress=progress)
+        folders[float(f)] = folder
+    return write_report(case, folders, out_dir)
+
+
+def frequency_record(folder: Path) -> dict:
+    """The issue's per-frequency record (prototype units) from one run folder
+    (result.json, series.csv, settlement.csv), and the single-frequency trends."""
+    res = json.loads((Path(folder) / "result.json").read_text())
+    series = _csv(Path(folder) / "series.csv")
+    settle = _csv(Path(folder) / "settlement.csv")
+    p = res["prototype"]
+    e = p["residual"]
+    dist, s = settle["distance_m"], settle["settlement_m"]
+    far = dist > 8.0
+    rec = {"top_displacement_m": e["top_displacement_m"], "rotation_deg": e["rotation_deg"],
+           "pivot_height_over_wall_length": e["pivot_height_over_wall_length"],
+           "residual_moment_over_static": p["residual_moment_over_static"],
+           "max_moment_over_static": p["max_moment_over_static"],
+           "passive_K_max_at_1_5m": p["passive_K_max_at_1_5m"],
+           "settlement_at_wall_m": float(s[0]) if len(s) else math.nan,
+           "settlement_at_8m_m": float(np.mean(s[far])) if far.any() else math.nan,
+           "wall_time_s": res["wall_time_s"]}
+    back, front = series["thrust_back_kN_per_m"], series["thrust_front_kN_per_m"]
+    rec["extra"] = {"passive_K_static_at_1_5m": p["passive_K_static_at_1_5m"],
+                    "thrust_back_static_kN_per_m": float(back[0]), "thrust_back_max_kN_per_m": float(back.max()),
+                    "thrust_front_static_kN_per_m": float(front[0]),
+                    "thrust_front_max_kN_per_m": float(front.max()),
+                    "mean_thrust_back_kN_per_m": float(back.mean()), "mean_thrust_front_kN_per_m": float(front.mean()),
+                    "particles": res["particles"], "steps": res["steps"], "dt_s": res["dt_s"],
+                    "steps_per_s": res["steps_per_s"], "porosity": res["porosity"], "run_folder": str(folder)}
+    rec["trends"] = single_frequency_trends(rec)
+    return rec
+
+
+def _csv(path: Path) -> dict[str, np.ndarray]:
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    return {k: np.array([float(r[k]) for r in rows]) for k in (rows[0] if rows else {})}
+
+
+def single_frequency_trends(rec: dict) -> dict:
+    """The paper's trends a single frequency can show: (held, the numbers)."""
+    x = rec["extra"]
+    pivot = rec["pivot_height_over_wall_length"]
+    balance = abs(x["mean_thrust_back_kN_per_m"] - x["mean_thrust_front_kN_per_m"]) / x["mean_thrust_back_kN_per_m"]
+    near, far = rec["settlement_at_wall_m"], rec["settlement_at_8m_m"]
+    return {
+        "rotation about a point near the base": {
+            "held": bool(abs(pivot) <= PIVOT_NEAR_BASE),
+            "numbers": f"residual pivot at {pivot:.2f} of the wall length above the toe "
+                       f"(held if within {PIVOT_NEAR_BASE} of the toe), rotation {rec['rotation_deg']:.3f} deg"},
+        "thrusts on the two faces equal and opposite": {
+            "held": bool(balance <= THRUST_BALANCE),
+            "numbers": f"mean over the record back {x['mean_thrust_back_kN_per_m']:.1f}, front "
+                       f"{x['mean_thrust_front_kN_per_m']:.1f} kN/m (difference {100 * balance:.0f} %)"},
+        "active thrust rising during shaking": {
+            "held": bool(x["thrust_back_max_kN_per_m"] > x["thrust_back_static_kN_per_m"]),
+            "numbers": f"back thrust static {x['thrust_back_static_kN_per_m']:.1f}, max "
+                       f"{x['thrust_back_max_kN_per_m']:.1f} kN/m"},
+        "maximum and residual moments above static": {
+            "held": bool(rec["max_moment_over_static"] > 1.0 and rec["residual_moment_over_static"] > 1.0),
+            "numbers": f"max / static {rec['max_moment_over_static']:.2f}, residual / static "
+                       f"{rec['residual_moment_over_static']:.2f}"},
+        "settlement concentrated near the wall, ~0 beyond 8 m": {
+            "held": bool(near > 0 and far < FAR_SETTLEMENT * near),
+            "numbers": f"at the wall {near * 1e3:.1f} mm, mean beyond 8 m {far * 1e3:.1f} mm (held if below "
+                       f"{FAR_SETTLEMENT:g} x the wall's)"},
+        "front (passive) pressure rising with shaking": {
+            "held": bool(rec["passive_K_max_at_1_5m"] > x["passive_K_static_at_1_5m"]),
+            "numbers": f"K at 1.5 m below the dredge line static {x['passive_K_static_at_1_5m']:.2f}, max "
+                       f"{rec['passive_K_max_at_1_5m']:.2f}"},
+    }
+
+
+def across_frequencies(freqs: dict) -> dict:
+    """Trends over frequencies: held / not held when all the paper's frequencies ran,
+    else not run."""
+    done = {f: r for f, r in freqs.items() if r is not None}
+    if set(done) != set(PAPER_FREQUENCIES):
+        missing = ", ".join(f"{f:g}" for f in PAPER_FREQUENCIES if f not in done)
+        note = f"not run (needs every frequency; missing {missing} Hz)"
+        return {k: {"held": None, "numbers": note} for k in
+                ("largest wall displacement at 4 or 5 Hz", "passive pressure rising far more at 4-6 Hz than 1, 3 Hz",
+                 "largest settlement at 5 Hz")}
+    top = {f: abs(r["top_displacement_m"]) for f, r in done.items()}
+    k = {f: r["passive_K_max_at_1_5m"] for f, r in done.items()}
+    s = {f: r["settlement_at_wall_m"] for f, r in done.items()}
+    f_top = max(top, key=top.get)
+    f_s = max(s, key=s.get)
+    return {"largest wall displacement at 4 or 5 Hz": {"held": f_top in (4.0, 5.0), "numbers": f"largest at {f_top:g} Hz"},
+            "passive pressure rising far more at 4-6 Hz than 1, 3 Hz": {
+                "held": min(k[4.0], k[5.0], k[6.0]) > max(k[1.0], k[3.0]),
+                "numbers": ", ".join(f"{f:g} Hz K {v:.2f}" for f, v in sorted(k.items()))},
+            "largest settlement at 5 Hz": {"held": f_s == 5.0, "numbers": f"largest at {f_s:g} Hz"}}
+
+
+def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: Path | None = None,
+                 note: str = "") -> dict:
+    """seismic.json and seismic.md from run folders by frequency (prototype Hz -> folder);
+    frequencies of the paper without a folder are written as not run."""
+    freqs = {f: (frequency_record(folders[f]) if f in folders else None) for f in PAPER_FREQUENCIES}
+    rep = {"resolution": case.resolution, "grain_scale": case.scale,
+           "frequencies": {f"{f:g}": ({k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
+                                      if r is not None else "not run") for f, r in freqs.items()},
+           "trends_across_frequencies": across_frequencies(freqs),
+           "git": _started_at(folders), "versions": package_versions(),
+           "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
+                     "../shared/reference/seismic-sheetpile.md"}
+    if material is not None and Path(material).is_file():
+        rep["material"] = json.loads(Path(material).read_text())
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "seismic.json").write_text(json.dumps(rep, indent=1) + "\n")
+    (out_dir / "seismic.md").write_text(report_markdown(rep, note))
+    return rep
+
+
+def _started_at(folders: dict) -> str:
+    revs = []
+    for folder in folders.values():
+        man = Path(folder) / "manifest.json"
+        revs.append(json.loads(man.read_text()).get("git", "?") if man.is_file() else git_revision())
+    return ", ".join(dict.fromkeys(revs)) or git_revision()
+
+
+def _held(t) -> str:
+    return "not run" if t["held"] is None else ("held" if t["held"] else "NOT held")
+
+
+def report_markdown(rep: dict, note: str = "") -> str:
+    lines = ["# Validation: Sizkow & El Shamy, a sheet pile shaken at 50 g (3D DEM)", "",
+             f"Generated by `studies.seismic.validate.write_report` (git {rep['git']}); resolution "
+             f"{rep['resolution']} (grain scale {rep['grain_scale']:g}: grains and wall balls "
+             f"{rep['grain_scale']:g} x the paper's, the wall's EI and mass per area the paper's). "
+             "Prototype units. The paper gives trends and figures, no tables: every check is a trend.", ""]
+    if note:
+        lines += [note, ""]
+    lines += ["| Hz | top displacement [m] | rotation [deg] | pivot / L | M max / static | M residual / static | "
+              "passive K max at 1.5 m | settlement at wall [m] | beyond 8 m [m] | wall time [s] |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+    for f, r in rep["frequencies"].items():
+        if r == "not run":
+            lines.append(f"| {f} | not run | | | | | | | | |")
+            continue
+        lines.append(f"| {f} | {r['top_displacement_m']:.4f} | {r['rotation_deg']:.3f} | "
+                     f"{r['pivot_height_over_wall_length']:.2f} | {r['max_moment_over_static']:.2f} | "
+                     f"{r['residual_moment_over_static']:.2f} | {r['passive_K_max_at_1_5m']:.2f} | "
+                     f"{r['settlement_at_wall_m']:.4f} | {r['settlement_at_8m_m']:.4f} | {r['wall_time_s']:.0f} |")
+    lines += ["", "## Trends", "", "| trend | frequency | result | numbers |", "|---|---|---|---|"]
+    for f, r in rep["frequencies"].items():
+        if r == "not run":
+            continue
+        for name, t in r["trends"].items():
+            lines.append(f"| {name} | {f} Hz | {_held(t)} | {t['numbers']} |")
+    for name, t in rep["trends_across_frequencies"].items():
+        lines.append(f"| {name} | all | {_held(t)} | {t['numbers']} |")
+    return "\n".join(lines) + "\n"
