@@ -32,6 +32,11 @@ PIVOT_NEAR_BASE = 0.3
 THRUST_BALANCE = 0.15
 #: "~0 beyond 8 m": mean settlement beyond 8 m below this fraction of the one at the wall
 FAR_SETTLEMENT = 0.2
+#: a wall that stands statically barely moves while the base acceleration is below a
+#: quarter of its amplitude (the first quarter of the linear ramp); a top displacement
+#: growing by more than this fraction of the wall length there is a static failure, and
+#: the trends are then not assessed [A]
+STATIC_FAILURE = 0.02
 
 
 def validate_seismic(case: SeismicCase, *, frequencies=PAPER_FREQUENCIES, out_dir: Path = Path("docs/validation"),
@@ -46,9 +51,22 @@ def validate_seismic(case: SeismicCase, *, frequencies=PAPER_FREQUENCIES, out_di
     return write_report(case, folders, out_dir)
 
 
-def frequency_record(folder: Path) -> dict:
+def stood_before_shaking(series: dict, ramp_s: float, wall_length_m: float) -> tuple[bool, str]:
+    """Whether the wall stood until the base acceleration reached a quarter of its
+    amplitude (prototype t <= ramp_s / 4): its top moved by at most STATIC_FAILURE x the
+    wall length [m] from the static reading; and the numbers."""
+    t, top = series["time_s"], series["top_displacement_m"]
+    early = t <= 0.25 * ramp_s
+    growth = float(np.max(np.abs(top[early])) - abs(top[0])) if early.any() else 0.0
+    stood = growth <= STATIC_FAILURE * wall_length_m
+    return stood, (f"wall top moved {growth:.3f} m in the first {0.25 * ramp_s:g} s (base acceleration "
+                   f"below a quarter of its amplitude; a standing wall moves < {STATIC_FAILURE * wall_length_m:.3f} m)")
+
+
+def frequency_record(folder: Path, case: SeismicCase | None = None) -> dict:
     """The issue's per-frequency record (prototype units) from one run folder
-    (result.json, series.csv, settlement.csv), and the single-frequency trends."""
+    (result.json, series.csv, settlement.csv), and the single-frequency trends (not
+    assessed when the wall failed statically, ``stood_before_shaking``)."""
     res = json.loads((Path(folder) / "result.json").read_text())
     series = _csv(Path(folder) / "series.csv")
     settle = _csv(Path(folder) / "settlement.csv")
@@ -72,7 +90,13 @@ def frequency_record(folder: Path) -> dict:
                     "mean_thrust_back_kN_per_m": float(back.mean()), "mean_thrust_front_kN_per_m": float(front.mean()),
                     "particles": res["particles"], "steps": res["steps"], "dt_s": res["dt_s"],
                     "steps_per_s": res["steps_per_s"], "porosity": res["porosity"], "run_folder": str(folder)}
+    case = case or SeismicCase()
+    stood, why = stood_before_shaking(series, case.ramp_s, case.wall_length * case.scale_N)
+    rec["extra"]["wall_stood_before_shaking"] = stood
     rec["trends"] = single_frequency_trends(rec)
+    if not stood:
+        rec["trends"] = {k: {"held": None, "numbers": f"not assessed: a static failure ({why}); read {t['numbers']}"}
+                         for k, t in rec["trends"].items()}
     return rec
 
 
@@ -142,7 +166,7 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
                  note: str = "") -> dict:
     """seismic.json and seismic.md from run folders by frequency (prototype Hz -> folder);
     frequencies of the paper without a folder are written as not run."""
-    freqs = {f: (frequency_record(folders[f]) if f in folders else None) for f in PAPER_FREQUENCIES}
+    freqs = {f: (frequency_record(folders[f], case) if f in folders else None) for f in PAPER_FREQUENCIES}
     rep = {"resolution": case.resolution, "grain_scale": case.scale,
            "frequencies": {f"{f:g}": ({k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
                                       if r is not None else "not run") for f, r in freqs.items()},
@@ -167,7 +191,9 @@ def _started_at(folders: dict) -> str:
 
 
 def _held(t) -> str:
-    return "not run" if t["held"] is None else ("held" if t["held"] else "NOT held")
+    if t["held"] is None:
+        return "not assessed" if t["numbers"].startswith("not assessed") else "not run"
+    return "held" if t["held"] else "NOT held"
 
 
 def report_markdown(rep: dict, note: str = "") -> str:

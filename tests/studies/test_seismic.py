@@ -160,3 +160,18 @@ def test_the_free_field_columns_shear_wave_speed_is_the_papers_scaled_to_its_hei
     print(f"tiny column: f0 {r['f0_Hz_prototype']:.2f} Hz (prototype), Vs_f0 {r['Vs_from_f0_m_per_s']:.0f} m/s, "
           f"expected {expected:.0f}")
     assert r["Vs_from_f0_m_per_s"] == pytest.approx(expected, rel=0.25)
+
+
+def test_a_wall_that_fails_before_the_shaking_is_not_assessed():
+    """The 5 Hz run of docs/validation/seismic.md: the wall top went 0.07 -> 0.60 m in the
+    first 1.2 s while the base acceleration was still ramping (phi 18 deg: a static
+    failure). Its trends must read 'not assessed', not 'held'. A standing wall's top moves
+    by millimetres in the first quarter of the ramp (3 s ramp: t <= 0.75 s)."""
+    from studies.seismic.validate import _held, stood_before_shaking
+    t = np.linspace(0.0, 9.0, 901)
+    failing = {"time_s": t, "top_displacement_m": 0.07 + 0.53 * np.clip(t / 1.2, 0, 1)}
+    standing = {"time_s": t, "top_displacement_m": 0.07 + 0.004 * np.clip(t / 1.2, 0, 1) + 0.02 * (t > 3)}
+    assert stood_before_shaking(failing, 3.0, 6.75)[0] is False
+    assert stood_before_shaking(standing, 3.0, 6.75)[0] is True
+    assert _held({"held": None, "numbers": "not assessed: a static failure"}) == "not assessed"
+    assert _held({"held": None, "numbers": "not run (needs every frequency)"}) == "not run"
