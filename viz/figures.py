@@ -18,10 +18,13 @@ _STYLE = {"rankine": ("-", "C0"), "coulomb": ("--", "C1"), "jaky": (":", "C2"),
           "ec7-annex-c": ("--", "C9"), "log-spiral": ("-", "olive"), "dsm": ("-", "k")}
 
 
-def _finish(fig, path) -> Path:
+def _finish(fig, path, tight: bool = True) -> Path:
+    """Save at 130 dpi (folders made) and close; ``tight=False`` keeps a layout set by hand
+    (room left for a notes box)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
+    if tight:
+        fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
     return path
@@ -521,11 +524,7 @@ def plot_drystone_history(water_height_m, crest_displacement_m, path, *, title: 
     ax.grid(alpha=0.3)
     _notes_box(fig, list(notes))
     fig.subplots_adjust(bottom=0.2)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return _finish(fig, path, tight=False)
 
 
 def plot_drystone_mechanism(outlines_ref, outlines, velocities, path, *, water_height: float, title: str,
@@ -560,11 +559,7 @@ def plot_drystone_mechanism(outlines_ref, outlines, velocities, path, *, water_h
     ax.legend(fontsize=8, loc="upper left")
     _notes_box(fig, list(notes))
     fig.subplots_adjust(bottom=0.15)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return _finish(fig, path, tight=False)
 
 
 def plot_drystone_summary(rows: list[dict], path, *, title: str) -> Path:
