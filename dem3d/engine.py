@@ -27,7 +27,7 @@ from analytic.errors import InvalidParameter
 from . import kernels
 from .clumps import clump_properties, matrix_to_quaternion, principal_frame
 from .errors import BlowUp
-from .params import ContactParams, check_time_step, critical_time_step, material_table, pair_params
+from .params import N_PARAM_FIELDS, ContactParams, check_time_step, critical_time_step, material_table, pair_params
 from .state import Bonds, Clumps, Pairs, Spheres, Specimen, WallPairs
 from .walls import Wall, WallSet
 
@@ -211,6 +211,13 @@ class Simulation:
         check_time_step(self.dt, crit, allow_unsafe=allow_unsafe_dt)
         self.params = params
         self.dt_critical = crit
+
+    @property
+    def rolling(self) -> bool:
+        """Whether some particle contact has rolling resistance (ContactParams.mu_roll)."""
+        if self.mtab is not None:
+            return bool(np.any(self.mtab[..., N_PARAM_FIELDS - 1] > 0.0))
+        return self.params.mu_roll > 0.0
 
     def set_density(self, spheres, density: float) -> None:
         """Give free spheres (specimen indices) their own density [kg/m^3]: mass
@@ -420,7 +427,7 @@ class Simulation:
                 om_mid, v_mid, om_end, v_end, self.panel_force, self.panel_moment,
                 hist_f[done:] if rows else hist_f, hist_m[done:] if rows else hist_m, todo, self.time,
                 self.mtab, self.use_f_ext, self.bonds,
-                self.attached if self.attached is not None else _NO_ATTACHED)
+                self.attached if self.attached is not None else _NO_ATTACHED, self.rolling)
             done += ran
             self.time = time
             self.step_count += ran
@@ -444,6 +451,8 @@ class Simulation:
         if self.bonds is not None:
             kernels.bond_forces(self.spheres, self.bonds, self.dt, pax, plen)
         kernels.pair_forces(self.spheres, self.pairs, self.params, self.dt, pax, plen, self.mtab)
+        if self.rolling:
+            kernels.rolling_torques(self.spheres, self.pairs, self.params, self.dt, pax, plen, self.mtab)
         kernels.gather_and_move(self.spheres, self.pairs, self.wall_pairs, self.walls.panels, self.params,
                                 self.dt, 0.0, 0.0, 0.0, 0.0, 0.0, False, self.mtab, self.use_f_ext, self.bonds)
         if self.walls.n_panels:
@@ -670,6 +679,7 @@ class Simulation:
         if int(a["version"]) != _STATE_VERSION:
             raise InvalidParameter("version", int(a["version"]), f"{_STATE_VERSION}")
         self = cls.__new__(cls)
+        a.setdefault("params.mu_roll", np.array(0.0))                    # states saved before rolling resistance
         self.params = ContactParams(**{f: a[f"params.{f}"].item() for f in ContactParams._fields})
         n_sph = a["spheres.x"].shape[0]
         a.setdefault("spheres.mat", np.zeros(n_sph, np.int32))          # states saved before materials
@@ -677,6 +687,8 @@ class Simulation:
         a.setdefault("panels.mat", np.zeros(a["panels.centre"].shape[0], np.int32))
         self.spheres = Spheres(**{f: np.ascontiguousarray(a[f"spheres.{f}"]) for f in Spheres._fields})
         self.mtab = a["materials"].copy() if "materials" in a else None
+        if self.mtab is not None and self.mtab.shape[-1] < N_PARAM_FIELDS:   # saved before rolling resistance
+            self.mtab = np.concatenate([self.mtab, np.zeros(self.mtab.shape[:2] + (1,))], axis=-1)
         self.bonds = (Bonds(**{f: np.ascontiguousarray(a[f"bonds.{f}"]) for f in Bonds._fields})
                       if "bonds.i" in a else None)
         self.dt_critical_bonds = float(a["dt_critical_bonds"]) if "dt_critical_bonds" in a else math.inf

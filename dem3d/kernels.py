@@ -156,13 +156,38 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy,
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
+def rolling_torque(mu_r, fn, r_eff, wx, wy, wz, nx, ny, nz, inv_i_sum, dt):
+    """Rolling-resistance torque on body A [N m] (ContactParams.mu_roll): opposite to the
+    rolling part of A's angular velocity relative to B, w_r = (w_A - w_B) - ((w_A - w_B).n) n,
+    of magnitude min(mu_r R* F_n, |w_r| / ((1/I_A + 1/I_B) dt)): the constant directional
+    torque (Ai et al. 2011, model A), clipped at the torque that would stop the relative
+    rolling in one step so that a contact at rest carries a steady torque instead of
+    flipping sign every step. B receives the opposite torque. Under a held moment M below
+    the limit a contact creeps at |w_r| = M dt (1/I_A + 1/I_B) (model A, clipped or not,
+    has no rolling spring: Ai et al.'s model C would add one, at 3 more history slots a pair)."""
+    wn = wx * nx + wy * ny + wz * nz
+    wx -= wn * nx
+    wy -= wn * ny
+    wz -= wn * nz
+    w2 = wx * wx + wy * wy + wz * wz
+    if w2 == 0.0:
+        return 0.0, 0.0, 0.0
+    wr = math.sqrt(w2)
+    m = mu_r * r_eff * fn
+    if inv_i_sum > 0.0:
+        m = min(m, wr / (inv_i_sum * dt))
+    s = -m / wr
+    return s * wx, s * wy, s * wz
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def pair_params(mtab, a, b):
-    """ContactParams of the material pair (a, b) from a material table (nm, nm, 11)
+    """ContactParams of the material pair (a, b) from a material table (nm, nm, 12)
     (dem3d.params.material_table): the same record the single-material path passes, so
     a contact between two materials runs the identical law with the pair's numbers."""
     row = mtab[a, b]
     return ContactParams(int(row[0]), row[1], row[2], row[3], row[4], int(row[5]), row[6], row[7],
-                         row[8], row[9], int(row[10]))
+                         row[8], row[9], int(row[10]), row[11])
 
 
 @njit(cache=True, fastmath=FASTMATH)
@@ -365,6 +390,60 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
         t[i, 0] = stx
         t[i, 1] = sty
         t[i, 2] = stz
+
+
+@njit(parallel=True, cache=True, fastmath=FASTMATH)
+def rolling_torques(sph, prs, prm, dt, pax, plen, mtab):
+    """Pass 1b, only when a contact has rolling resistance (ContactParams.mu_roll > 0):
+    the torque of ``rolling_torque`` on both spheres of every touching pair, from the
+    normal force pass 1 left in the pair's slot (pf[., 6]). A separate pass so that the
+    plain contact pass is unchanged (and as fast) without it."""
+    x = sph.x
+    w = sph.w
+    r = sph.r
+    inv_i = sph.inv_i
+    t = sph.t
+    mat = sph.mat
+    nbr = prs.nbr
+    tpos = prs.tpos
+    active = prs.active
+    pf = prs.pf
+    for i in prange(x.shape[0]):
+        stx = 0.0
+        sty = 0.0
+        stz = 0.0
+        for k in range(prs.start[i], prs.start[i + 1]):
+            if not active[k]:
+                continue
+            kt_ = tpos[k]
+            fn = pf[kt_, 6]
+            j = nbr[k]
+            mu_r = prm.mu_roll if mtab is None else mtab[mat[i], mat[j], 11]
+            if fn <= 0.0 or mu_r <= 0.0:
+                continue
+            dx = x[j, 0] - x[i, 0]
+            dy = x[j, 1] - x[i, 1]
+            dz = x[j, 2] - x[i, 2]
+            if pax == 0:
+                dx = _min_image(dx, plen)
+            elif pax == 1:
+                dy = _min_image(dy, plen)
+            elif pax == 2:
+                dz = _min_image(dz, plen)
+            inv_d = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
+            rs = r[i] + r[j]
+            rtx, rty, rtz = rolling_torque(mu_r, fn, r[i] * r[j] / rs, w[i, 0] - w[j, 0], w[i, 1] - w[j, 1],
+                                           w[i, 2] - w[j, 2], dx * inv_d, dy * inv_d, dz * inv_d,
+                                           inv_i[i] + inv_i[j], dt)
+            stx += rtx
+            sty += rty
+            stz += rtz
+            pf[kt_, 3] -= rtx
+            pf[kt_, 4] -= rty
+            pf[kt_, 5] -= rtz
+        t[i, 0] += stx
+        t[i, 1] += sty
+        t[i, 2] += stz
 
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
@@ -1367,7 +1446,7 @@ def wall_displacement(pan, ref_centre, ref_e1, ref_e2):
 def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed_limit2,
             wall_of_panel, moving, pivot, axis, ref_centre, ref_e1, ref_e2,
             om_mid, v_mid, om_end, v_end, panel_force, panel_moment, hist_force, hist_moment,
-            n_steps, time, mtab, has_fext, bnd, att):
+            n_steps, time, mtab, has_fext, bnd, att, rolling):
     """Run up to ``n_steps`` steps (module docstring, passes 1-4, then the walls move).
 
     om_mid, v_mid, om_end, v_end: (n_steps, n_walls[, 3]) wall motion samples at each
@@ -1378,6 +1457,7 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     att: (spheres, walls) int64 arrays of spheres carried by moving walls, empty for none
     (``move_attached``, after the spheres move, before the walls do; one check per step,
     so it is not a separate specialisation).
+    rolling: some contact has rolling resistance (``rolling_torques`` after pass 1).
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
     that moved a sphere or a panel more than skin/2 since the last list build, or broke a
     bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
@@ -1396,6 +1476,8 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
         if bnd is not None:
             broken = bond_forces(sph, bnd, dt, pax, plen)
         pair_forces(sph, prs, prm, dt, pax, plen, mtab)
+        if rolling:
+            rolling_torques(sph, prs, prm, dt, pax, plen, mtab)
         moved, bad, fast = gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz,
                                            ref_limit2, speed_limit2, True, mtab, has_fext, bnd)
         if has_clumps:

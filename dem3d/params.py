@@ -45,6 +45,11 @@ class ContactParams(NamedTuple):
                     (Cundall 1987; PFC3D manual) -- for quasi-static stages only
     coulomb:        COULOMB_ELASTIC (cap on the elastic normal force, PFC) or
                     COULOMB_TOTAL (on the total normal force, LIGGGHTS)
+    mu_roll:        rolling-resistance coefficient mu_r [-] of particle-particle contacts
+                    (0 = none): a torque opposing the relative rolling, of magnitude
+                    mu_r R* F_n (constant directional torque, Ai et al. 2011 model A;
+                    LIGGGHTS ``rolling_friction cdt``), clipped to what stops the
+                    relative rolling within one step so a contact at rest does not chatter
     """
 
     law: int
@@ -58,11 +63,12 @@ class ContactParams(NamedTuple):
     mu: float
     local_damping: float
     coulomb: int = COULOMB_ELASTIC
+    mu_roll: float = 0.0
 
 
 def linear(kn: float, ks: float, mu: float, *, zeta_n: float | None = None, zeta_s: float | None = None,
            c_n: float | None = None, c_s: float | None = None, local_damping: float = 0.0,
-           coulomb: str = "elastic") -> ContactParams:
+           coulomb: str = "elastic", mu_roll: float = 0.0) -> ContactParams:
     """PFC-style linear contact: F_n = kn delta + c_n v_n, incremental F_t = -ks u_t - c_s v_t,
     |F_t| <= mu kn delta.
 
@@ -76,12 +82,12 @@ def linear(kn: float, ks: float, mu: float, *, zeta_n: float | None = None, zeta
     ks = require_number("ks", ks, 0.0, None, lo_open=False, unit="N/m")
     mode, dn, ds = _damping(zeta_n, zeta_s, c_n, c_s)
     return ContactParams(LINEAR, kn, ks, 0.0, 0.0, mode, dn, ds, _mu("mu", mu), _alpha(local_damping),
-                         _coulomb(coulomb))
+                         _coulomb(coulomb), _mu("mu_roll", mu_roll))
 
 
 def hertz_mindlin(youngs: float, poisson: float, mu: float, *, zeta_n: float | None = None,
                   zeta_s: float | None = None, c_n: float | None = None, c_s: float | None = None,
-                  local_damping: float = 0.0, coulomb: str = "elastic") -> ContactParams:
+                  local_damping: float = 0.0, coulomb: str = "elastic", mu_roll: float = 0.0) -> ContactParams:
     """Hertz-Mindlin contact between grains of one material (Young's modulus ``youngs`` [Pa],
     Poisson's ratio ``poisson``): E* = E / (2 (1 - nu^2)), G* = E / (4 (2 - nu)(1 + nu))
     (Johnson 1985; LIGGGHTS ``hertz``/``tangential history``). Walls use the same E*, G*.
@@ -92,7 +98,7 @@ def hertz_mindlin(youngs: float, poisson: float, mu: float, *, zeta_n: float | N
     e_star = youngs / (2.0 * (1.0 - poisson ** 2))
     g_star = youngs / (4.0 * (2.0 - poisson) * (1.0 + poisson))
     return ContactParams(HERTZ_MINDLIN, 0.0, 0.0, e_star, g_star, mode, dn, ds, _mu("mu", mu),
-                         _alpha(local_damping), _coulomb(coulomb))
+                         _alpha(local_damping), _coulomb(coulomb), _mu("mu_roll", mu_roll))
 
 
 def restitution_to_damping_ratio(e: float) -> float:
@@ -200,7 +206,8 @@ def mix(a: ContactParams, b: ContactParams) -> ContactParams:
       itself back.
     * friction: the smaller coefficient, mu_ab = min(mu_a, mu_b) (the weaker surface
       governs sliding);
-    * damping ratios / coefficients: the arithmetic mean.
+    * damping ratios / coefficients: the arithmetic mean;
+    * rolling resistance: the smaller coefficient, as friction.
     Law, damping mode, Coulomb cap and local damping must be the same for both (they are
     properties of the model, not of a surface). Pass explicit pair parameters to
     ``material_table`` to override the rule (LIGGGHTS ``peratomtypepair``).
@@ -214,7 +221,8 @@ def mix(a: ContactParams, b: ContactParams) -> ContactParams:
 
     return ContactParams(a.law, series(a.kn, b.kn), series(a.ks, b.ks), series(a.e_star, b.e_star),
                          series(a.g_star, b.g_star), a.damping, 0.5 * (a.damp_n + b.damp_n),
-                         0.5 * (a.damp_s + b.damp_s), min(a.mu, b.mu), a.local_damping, a.coulomb)
+                         0.5 * (a.damp_s + b.damp_s), min(a.mu, b.mu), a.local_damping, a.coulomb,
+                         min(a.mu_roll, b.mu_roll))
 
 
 def material_table(materials, pairs=None):
@@ -247,4 +255,4 @@ def pair_params(table, a: int, b: int) -> ContactParams:
     """The ContactParams of the pair (a, b) in a ``material_table``."""
     row = table[a, b]
     return ContactParams(int(row[0]), *(float(v) for v in row[1:5]), int(row[5]),
-                         *(float(v) for v in row[6:10]), int(row[10]))
+                         *(float(v) for v in row[6:10]), int(row[10]), float(row[11]))
