@@ -155,6 +155,7 @@ class Simulation:
         self.step_count = 0
         self.n_rebuilds = 0
         self._pair_bufs = [_empty_pairs(n, 0), _empty_pairs(n, 0)]
+        self._fit_history()
         self._wall_bufs = [_empty_wall_pairs(n, 0), _empty_wall_pairs(n, 0)]
         self._cur = 0
         self._wcur = 0
@@ -211,6 +212,7 @@ class Simulation:
         check_time_step(self.dt, crit, allow_unsafe=allow_unsafe_dt)
         self.params = params
         self.dt_critical = crit
+        self._fit_history()
 
     @property
     def rolling(self) -> bool:
@@ -218,6 +220,17 @@ class Simulation:
         if self.mtab is not None:
             return bool(np.any(self.mtab[..., N_PARAM_FIELDS - 1] > 0.0))
         return self.params.mu_roll > 0.0
+
+    def _fit_history(self) -> None:
+        """Pair history 6 wide (tangential displacement, rolling moment) with rolling
+        resistance, else 3 wide: the plain contact pass keeps its memory traffic."""
+        width = 6 if self.rolling else 3
+        for b, prs in enumerate(self._pair_bufs):
+            if prs.ut.shape[1] != width:
+                ut = np.zeros((prs.ut.shape[0], width))
+                keep = min(width, prs.ut.shape[1])
+                ut[:, :keep] = prs.ut[:, :keep]
+                self._pair_bufs[b] = prs._replace(ut=ut)
 
     def set_density(self, spheres, density: float) -> None:
         """Give free spheres (specimen indices) their own density [kg/m^3]: mass
@@ -590,13 +603,14 @@ class Simulation:
             self._rows = np.empty((n, widest + 8), np.int64)
         total = int(counts.sum())
         if new.nbr.shape[0] < total:          # grow the spare CSR buffer
-            new = _empty_pairs(n, int(1.25 * total) + 64)
+            new = _empty_pairs(n, int(1.25 * total) + 64, old.ut.shape[1])
         kernels.compact_rows(self._rows, counts, new.start, new.nbr)
         identity = np.arange(n, dtype=np.int64) if new_to_old is None else new_to_old
         kernels.carry_pair_history(new.start, new.nbr, new.ut, new.active, old.start, old.nbr, old.ut,
                                    old.active, identity)
         kernels.touching_first(sph.x, sph.r, pax, plen, new.start, new.nbr, new.ut, new.active,
-                               np.empty(total, np.int64), np.empty((total, 3)), np.empty(total, np.uint8))
+                               np.empty(total, np.int64), np.empty((total, new.ut.shape[1])),
+                               np.empty(total, np.uint8))
         kernels.transpose_pairs(new.start, new.nbr, n, new.tstart, new.tpair, new.tpos)
         # pass 2 sums every transposed row: rows of open pairs must be zero; rows of
         # carried contacts are rewritten by the next pass 1 before pass 2 reads them
@@ -699,6 +713,7 @@ class Simulation:
         n = self.spheres.x.shape[0]
         self._pair_bufs = [Pairs(**{f: np.ascontiguousarray(a[f"pairs.{f}"]) for f in Pairs._fields}),
                            _empty_pairs(n, 0)]
+        self._fit_history()
         self._wall_bufs = [WallPairs(**{f: np.ascontiguousarray(a[f"wall_pairs.{f}"]) for f in WallPairs._fields}),
                            _empty_wall_pairs(n, 0)]
         self._cur = 0
@@ -838,10 +853,10 @@ def _build_bodies(pos, radii, labels, vel, density) -> tuple[Spheres, Clumps]:
     return spheres, clumps
 
 
-def _empty_pairs(n: int, cap: int) -> Pairs:
+def _empty_pairs(n: int, cap: int, width: int = 3) -> Pairs:
     return Pairs(start=np.zeros(n + 1, np.int64), nbr=np.zeros(cap, np.int64),
                  tstart=np.zeros(n + 1, np.int64), tpair=np.zeros(cap, np.int64),
-                 tpos=np.zeros(cap, np.int64), ut=np.zeros((cap, 3)), active=np.zeros(cap, np.uint8),
+                 tpos=np.zeros(cap, np.int64), ut=np.zeros((cap, width)), active=np.zeros(cap, np.uint8),
                  pf=np.zeros((cap, 8)))
 
 

@@ -156,28 +156,41 @@ def contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz, m_eff, r_eff, ux, uy,
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def rolling_torque(mu_r, fn, r_eff, wx, wy, wz, nx, ny, nz, inv_i_sum, dt):
-    """Rolling-resistance torque on body A [N m] (ContactParams.mu_roll): opposite to the
-    rolling part of A's angular velocity relative to B, w_r = (w_A - w_B) - ((w_A - w_B).n) n,
-    of magnitude min(mu_r R* F_n, |w_r| / ((1/I_A + 1/I_B) dt)): the constant directional
-    torque (Ai et al. 2011, model A), clipped at the torque that would stop the relative
-    rolling in one step so that a contact at rest carries a steady torque instead of
-    flipping sign every step. B receives the opposite torque. Under a held moment M below
-    the limit a contact creeps at |w_r| = M dt (1/I_A + 1/I_B) (model A, clipped or not,
-    has no rolling spring: Ai et al.'s model C would add one, at 3 more history slots a pair)."""
+def rolling_moment(prm, fn, delta, r_eff, wx, wy, wz, nx, ny, nz, mx, my, mz, dt):
+    """Rolling-resistance moment on body A [N m] (ContactParams.mu_roll = mu_r), the
+    elastic-plastic spring of Ai et al. (2011, model C without its dashpot; LIGGGHTS
+    ``rolling_friction epsd2``): the stored moment m is first turned into the current
+    tangent plane (magnitude kept), then m -= k_r w_r dt with w_r the rolling part of
+    A's angular velocity relative to B, k_r = 2.25 k_n mu_r^2 R*^2 (k_n the normal
+    tangent stiffness: kn, or 2 E* sqrt(R* delta) for Hertz), and |m| <= mu_r R* F_n.
+    Below the cap a contact holds a moment without creeping and carries small-strain
+    waves elastically; at the cap it rolls against a constant moment. B receives -m."""
+    mn = mx * nx + my * ny + mz * nz
+    if mn != 0.0:
+        p2 = mx * mx + my * my + mz * mz
+        mx -= mn * nx
+        my -= mn * ny
+        mz -= mn * nz
+        q2 = mx * mx + my * my + mz * mz
+        if q2 > 0.0:
+            s = math.sqrt(p2 / q2)
+            mx *= s
+            my *= s
+            mz *= s
     wn = wx * nx + wy * ny + wz * nz
-    wx -= wn * nx
-    wy -= wn * ny
-    wz -= wn * nz
-    w2 = wx * wx + wy * wy + wz * wz
-    if w2 == 0.0:
-        return 0.0, 0.0, 0.0
-    wr = math.sqrt(w2)
-    m = mu_r * r_eff * fn
-    if inv_i_sum > 0.0:
-        m = min(m, wr / (inv_i_sum * dt))
-    s = -m / wr
-    return s * wx, s * wy, s * wz
+    kn = prm.kn if prm.law != HERTZ_MINDLIN else 2.0 * prm.e_star * math.sqrt(r_eff * delta)
+    kr = 2.25 * kn * prm.mu_roll * prm.mu_roll * r_eff * r_eff
+    mx -= kr * (wx - wn * nx) * dt
+    my -= kr * (wy - wn * ny) * dt
+    mz -= kr * (wz - wn * nz) * dt
+    cap = prm.mu_roll * r_eff * fn if fn > 0.0 else 0.0
+    m2 = mx * mx + my * my + mz * mz
+    if m2 > cap * cap:
+        s = cap / math.sqrt(m2)
+        mx *= s
+        my *= s
+        mz *= s
+    return mx, my, mz
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -394,32 +407,34 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
 def rolling_torques(sph, prs, prm, dt, pax, plen, mtab):
-    """Pass 1b, only when a contact has rolling resistance (ContactParams.mu_roll > 0):
-    the torque of ``rolling_torque`` on both spheres of every touching pair, from the
-    normal force pass 1 left in the pair's slot (pf[., 6]). A separate pass so that the
-    plain contact pass is unchanged (and as fast) without it."""
+    """Pass 1b, only when a contact has rolling resistance (ContactParams.mu_roll > 0;
+    the pair history is then 6 wide, the moment on the first sphere in columns 3-5):
+    ``rolling_moment`` on both spheres of every touching pair, from the normal force
+    pass 1 left in the pair's slot (pf[., 6]); a pair that stopped touching forgets its
+    moment. A separate pass so the plain contact pass is unchanged (and as fast)."""
     x = sph.x
     w = sph.w
     r = sph.r
-    inv_i = sph.inv_i
     t = sph.t
     mat = sph.mat
     nbr = prs.nbr
     tpos = prs.tpos
     active = prs.active
     pf = prs.pf
+    ut = prs.ut
     for i in prange(x.shape[0]):
         stx = 0.0
         sty = 0.0
         stz = 0.0
         for k in range(prs.start[i], prs.start[i + 1]):
             if not active[k]:
+                ut[k, 3] = 0.0
+                ut[k, 4] = 0.0
+                ut[k, 5] = 0.0
                 continue
-            kt_ = tpos[k]
-            fn = pf[kt_, 6]
             j = nbr[k]
-            mu_r = prm.mu_roll if mtab is None else mtab[mat[i], mat[j], 11]
-            if fn <= 0.0 or mu_r <= 0.0:
+            pp = prm if mtab is None else pair_params(mtab, mat[i], mat[j])
+            if pp.mu_roll <= 0.0:
                 continue
             dx = x[j, 0] - x[i, 0]
             dy = x[j, 1] - x[i, 1]
@@ -430,17 +445,21 @@ def rolling_torques(sph, prs, prm, dt, pax, plen, mtab):
                 dy = _min_image(dy, plen)
             elif pax == 2:
                 dz = _min_image(dz, plen)
-            inv_d = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
+            d = math.sqrt(dx * dx + dy * dy + dz * dz)
             rs = r[i] + r[j]
-            rtx, rty, rtz = rolling_torque(mu_r, fn, r[i] * r[j] / rs, w[i, 0] - w[j, 0], w[i, 1] - w[j, 1],
-                                           w[i, 2] - w[j, 2], dx * inv_d, dy * inv_d, dz * inv_d,
-                                           inv_i[i] + inv_i[j], dt)
-            stx += rtx
-            sty += rty
-            stz += rtz
-            pf[kt_, 3] -= rtx
-            pf[kt_, 4] -= rty
-            pf[kt_, 5] -= rtz
+            kt_ = tpos[k]
+            mx, my, mz = rolling_moment(pp, pf[kt_, 6], rs - d, r[i] * r[j] / rs, w[i, 0] - w[j, 0],
+                                        w[i, 1] - w[j, 1], w[i, 2] - w[j, 2], dx / d, dy / d, dz / d,
+                                        ut[k, 3], ut[k, 4], ut[k, 5], dt)
+            ut[k, 3] = mx
+            ut[k, 4] = my
+            ut[k, 5] = mz
+            stx += mx
+            sty += my
+            stz += mz
+            pf[kt_, 3] -= mx
+            pf[kt_, 4] -= my
+            pf[kt_, 5] -= mz
         t[i, 0] += stx
         t[i, 1] += sty
         t[i, 2] += stz
@@ -1137,20 +1156,23 @@ def carry_pair_history(start, nbr, ut, active, old_start, old_nbr, old_ut, old_a
     A pair (i, j) is looked up in the old row of i, then in the old row of j: which of
     the two spheres lists the pair depends on their cells, which change between builds.
     Found the other way round, the history (a displacement of the first sphere relative
-    to the second) changes sign. ``new_to_old`` maps sphere indices if they were permuted."""
+    to the second) changes sign, as does a rolling-resistance moment (columns 3-5 of a
+    6-wide history, on the first sphere). ``new_to_old`` maps sphere indices if they
+    were permuted; columns the old history lacks start at zero."""
+    width = ut.shape[1]
+    carried = min(width, old_ut.shape[1])
     for i in prange(start.shape[0] - 1):
         oi = new_to_old[i]
         for k in range(start[i], start[i + 1]):
             oj = new_to_old[nbr[k]]
-            ut[k, 0] = 0.0
-            ut[k, 1] = 0.0
-            ut[k, 2] = 0.0
+            for d in range(width):
+                ut[k, d] = 0.0
             active[k] = 0
             found = False
             for m in range(old_start[oi], old_start[oi + 1]):
                 if old_nbr[m] == oj:
                     active[k] = old_active[m]
-                    for d in range(3):
+                    for d in range(carried):
                         ut[k, d] = old_ut[m, d]
                     found = True
                     break
@@ -1158,7 +1180,7 @@ def carry_pair_history(start, nbr, ut, active, old_start, old_nbr, old_ut, old_a
                 for m in range(old_start[oj], old_start[oj + 1]):
                     if old_nbr[m] == oi:
                         active[k] = old_active[m]
-                        for d in range(3):
+                        for d in range(carried):
                             ut[k, d] = -old_ut[m, d]
                         break
 
@@ -1177,13 +1199,13 @@ def touching_first(x, r, pax, plen, start, nbr, ut, active, nbr_tmp, ut_tmp, act
                 if (dx * dx + dy * dy + dz * dz < rs * rs) == first:
                     nbr_tmp[pos] = nbr[k]
                     active_tmp[pos] = active[k]
-                    for d in range(3):
+                    for d in range(ut.shape[1]):
                         ut_tmp[pos, d] = ut[k, d]
                     pos += 1
         for k in range(start[i], start[i + 1]):
             nbr[k] = nbr_tmp[k]
             active[k] = active_tmp[k]
-            for d in range(3):
+            for d in range(ut.shape[1]):
                 ut[k, d] = ut_tmp[k, d]
 
 
