@@ -60,6 +60,10 @@ class SeismicCase:
     porosity:             target porosity of the deposit (0.40)
     shear_modulus, poisson: grain elastic constants for Hertz-Mindlin [Pa], [-] (29 GPa, 0.15 [A])
     friction:             inter-particle and wall-soil friction coefficient (0.5 [A])
+    rolling_resistance:   rolling-resistance coefficient mu_r of grain contacts (dem3d ContactParams.mu_roll;
+                          0.25 [A], calibrated: the deposit's triaxial peak phi is 29.9 / 32.3 / 33.4 deg at
+                          mu_r 0.2 / 0.3 / 0.4 (70 kPa, porosity 0.40), paper ~31; the paper names none; not
+                          applied while raining, so the porosity stays ~0.40)
     deposition_friction:  friction while the deposit is rained (sets its porosity [A]; 0.5, the grains'
                           own, gives ~0.40)
     deposition_damping:   viscous contact damping while raining, fraction of critical (0.5 [A]: the
@@ -106,6 +110,7 @@ class SeismicCase:
     shear_modulus: float = 29e9
     poisson: float = 0.15
     friction: float = 0.5
+    rolling_resistance: float = 0.25
     deposition_friction: float = 0.5
     deposition_damping: float = 0.5
     damping_ratio: float = 0.05
@@ -149,6 +154,7 @@ class SeismicCase:
         require_number("poisson", self.poisson, 0.0, 0.5)
         for name in ("friction", "deposition_friction", "boundary_friction"):
             require_number(name, getattr(self, name), 0.0, 2.0, lo_open=False)
+        require_number("rolling_resistance", self.rolling_resistance, 0.0, 1.0, lo_open=False, hi_open=False)
         for name in ("damping_ratio", "deposition_damping"):
             require_number(name, getattr(self, name), 0.0, 1.0, lo_open=False)
         for name in ("rain_energy", "settle_energy"):

@@ -44,7 +44,7 @@ def contact_law(case: SeismicCase, *, friction: float | None = None, local_dampi
     youngs = 2.0 * case.shear_modulus * (1.0 + case.poisson)
     mu = case.friction if friction is None else friction
     return hertz_mindlin(youngs, case.poisson, mu, zeta_n=case.damping_ratio, zeta_s=case.damping_ratio,
-                         local_damping=local_damping)
+                         local_damping=local_damping, mu_roll=case.rolling_resistance)
 
 
 def mean_grain_volume(case: SeismicCase) -> float:

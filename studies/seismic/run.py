@@ -36,7 +36,7 @@ VS = 210.0
 
 def static_key(case: SeismicCase) -> str:
     d = dataclasses.asdict(case)
-    return content_key({k: v for k, v in d.items() if k not in DYNAMIC_FIELDS} | {"scale": case.scale, "v": 4})
+    return content_key({k: v for k, v in d.items() if k not in DYNAMIC_FIELDS} | {"scale": case.scale, "v": 5})
 
 
 class Prepared(NamedTuple):
