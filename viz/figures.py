@@ -647,3 +647,61 @@ def plot_seismic(N: float, readings, series: dict, profiles: dict, mo: dict, pat
     if title:
         fig.suptitle(title)
     return _finish(fig, path)
+
+
+def plot_seismic_K_rotation(rotation_deg, K, K_mean, path, *, K_p: dict | None = None, title: str = "",
+                            note: str = "") -> Path:
+    """Sizkow & El Shamy's Fig. 4: the earth-pressure coefficient sigma_h / (gamma z) on
+    the front (passive) face 1.5 m (prototype) below the dredge line against the wall's
+    rotation [deg] over the whole record, each reading and its mean over one period of the
+    base motion; ``K_p``: {label: K} horizontal lines (e.g. Coulomb / M-O passive)."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    ax.plot(rotation_deg, K, "-", lw=0.6, color="0.6", label="each reading (dynamic)")
+    ax.plot(rotation_deg, K_mean, "-", lw=1.4, color="C1", label="mean over one period of the base motion")
+    ax.plot(rotation_deg[:1], K[:1], "o", color="C0", label="start of shaking (static)")
+    ax.plot(rotation_deg[-1:], K[-1:], "s", color="C3", label="end (residual)")
+    for (label, value), ls in zip((K_p or {}).items(), ("--", ":", "-.")):
+        ax.axhline(value, ls=ls, color="k", lw=0.9, label=label)
+    ax.set_xlabel("wall rotation toward the excavation [deg]")
+    ax.set_ylabel("K = sigma_h / (gamma z) on the front face")
+    ax.set_title(title or "K 1.5 m below the dredge line vs wall rotation (Fig. 4)", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    if note:
+        fig.text(0.01, 0.01, note, fontsize=6, va="bottom")
+    return _finish(fig, path)
+
+
+def plot_seismic_strain(x_edges, z_edges, fields: list, path, *, wall: tuple, ground: tuple, title: str = "",
+                        note: str = "") -> Path:
+    """Sizkow & El Shamy's Fig. 7: maximum shear strain [%] in the x-z plane at the
+    snapshot times, one panel each, one colour scale. ``fields``: [(time [s], (nx, nz)
+    gamma_max)]; ``wall``: (x_front, x_back, z_toe, z_top) [m]; ``ground``: (z_front,
+    z_back) surfaces [m]; all in prototype units."""
+    k = max(1, len(fields))
+    cols = min(k, 2)
+    rows = (k + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(5.5 * cols + 1.0, 2.6 * rows + 0.8), squeeze=False)
+    finite = [g[np.isfinite(g)] for _, g in fields]
+    vals = np.concatenate(finite) if finite else np.array([])
+    vmax = float(np.percentile(vals, 99)) * 100 if len(vals) else 1.0
+    mesh = None
+    for a, (t, g) in zip(axes.ravel(), fields):
+        mesh = a.pcolormesh(x_edges, z_edges, np.ma.masked_invalid(g.T * 100), cmap="viridis", vmin=0.0,
+                            vmax=vmax if vmax > 0 else 1.0)
+        x0, x1, zt, zw = wall
+        a.fill_between([x0, x1], zt, zw, color="k")
+        a.plot([x_edges[0], x0], [ground[0]] * 2, "k-", lw=0.8)
+        a.plot([x1, x_edges[-1]], [ground[1]] * 2, "k-", lw=0.8)
+        a.set_title(f"{t:.2f} s", fontsize=9)
+        a.set_aspect("equal")
+        a.set_xlabel("x from the wall's front face [m]")
+        a.set_ylabel("height [m]")
+    for a in axes.ravel()[len(fields):]:
+        a.set_visible(False)
+    if mesh is not None:
+        fig.colorbar(mesh, ax=axes.ravel().tolist(), label="maximum shear strain [%]", shrink=0.8)
+    fig.suptitle(title or "maximum shear strain (Fig. 7)", fontsize=10)
+    if note:
+        fig.text(0.01, 0.005, note, fontsize=6, va="bottom")
+    return _finish(fig, path, tight=False)

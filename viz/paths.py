@@ -10,6 +10,10 @@ World (2D or 3D scene, in metres)::
     world/wall             LineStrips: wall panels, coloured by normal stress
     world/force_chains     LineStrips: contacts above the mean normal force, radius ~ force
     world/displacement     Arrows: particle displacement since the first frame (subsampled)
+    world/sheet_pile       Points3D: the seismic study's wall balls, coloured by the bending
+                           moment of their row (blue negative, white 0, red positive)
+    world/shear_strain     Boxes3D: the seismic study's maximum shear strain per x-z cell
+                           (viridis), drawn beside the periodic slab at its snapshot times
 
 Wall pressure profile (a 2D plot: x = sigma_h / (gamma H), y = -depth / H)::
 
@@ -41,6 +45,8 @@ JOINT_FORCES = "world/joint_forces"
 WALL = "world/wall"
 FORCE_CHAINS = "world/force_chains"
 DISPLACEMENT = "world/displacement"
+SHEET_PILE = "world/sheet_pile"
+SHEAR_STRAIN = "world/shear_strain"
 PROFILE = "profile"
 PROFILE_DEM = "profile/dem"
 PROFILE_THEORY = "profile/theory"

@@ -59,3 +59,17 @@ def read_positions(path: str | Path, entity: str, archetype: str = "Points3D",
             frames.append(np.array(rows, dtype=float))
     o = np.argsort(np.array(times), kind="stable")
     return np.array(times)[o], [frames[i] for i in o]
+
+
+def read_column(path: str | Path, entity: str, component: str,
+                timeline: str = "step") -> tuple[np.ndarray, list[np.ndarray]]:
+    """(times, list of arrays) of any component (e.g. ``Points3D:colors`` as packed
+    0xRRGGBBAA, ``Boxes3D:centers``), sorted by the timeline; rows with no value left out."""
+    times, values = [], []
+    for b in _batches(path, entity, component):
+        for t, rows in zip(b.column(timeline).to_numpy(), b.column(component).to_pylist()):
+            if rows is not None:
+                times.append(t)
+                values.append(np.array(rows))
+    o = np.argsort(np.array(times), kind="stable")
+    return np.array(times)[o], [values[i] for i in o]

@@ -45,6 +45,14 @@ def _viridis(values: np.ndarray, vmax: float) -> np.ndarray:
     return (stops[i] * (1 - f) + stops[i + 1] * f).astype(np.uint8)
 
 
+def _diverging(values: np.ndarray, vmax: float) -> np.ndarray:
+    """uint8 RGB colours for values in [-vmax, vmax]: blue, white at 0, red."""
+    t = np.clip(values / vmax, -1.0, 1.0)[:, None] if vmax > 0 else np.zeros((len(values), 1))
+    white = np.array([245, 245, 245], float)
+    neg = white * (1 + np.minimum(t, 0)) + _RGB_WALL_LOW * -np.minimum(t, 0)
+    pos = white * (1 - np.maximum(t, 0)) + _RGB_WALL_HIGH * np.maximum(t, 0)
+    return np.where(t < 0, neg, pos).astype(np.uint8)
+
 
 
 def default_blueprint(dim: int, *, scene_name: str = "particles and force chains",
@@ -66,6 +74,22 @@ def nadukuru_blueprint() -> rrb.Blueprint:
     """Nadukuru & Michalowski: the 3D fill and wall, with segment stresses over time."""
     return default_blueprint(3, scene_name="backfill, wall segments and force chains",
                              extra_series=(P.METRIC_PANEL_STRESS,))
+
+
+def seismic_blueprint() -> rrb.Blueprint:
+    """Sizkow & El Shamy: grains, the wall coloured by bending moment and the shear-strain
+    cells; thrust on both faces, passive K at 1.5 m, wall top and largest moment."""
+    m = P.METRICS
+    scene = rrb.Spatial3DView(origin=P.WORLD, name="grains, sheet pile (moment), max shear strain")
+    right = rrb.Vertical(
+        rrb.TimeSeriesView(origin=m, contents=["$origin/thrust_back_kN_per_m", "$origin/thrust_front_kN_per_m"],
+                           name="thrust on both faces kN/m"),
+        rrb.TimeSeriesView(origin=m, contents=["$origin/passive_K_at_1_5m"], name="passive K 1.5 m below dredge line"),
+        rrb.TimeSeriesView(origin=m, contents=["$origin/top_displacement_m", "$origin/rotation_deg"],
+                           name="wall top m, rotation deg"),
+        rrb.TimeSeriesView(origin=m, contents=["$origin/max_moment_kN_m_per_m"], name="largest moment kN m/m"),
+        rrb.TextDocumentView(origin=P.CASE, name="case"))
+    return rrb.Blueprint(rrb.Horizontal(scene, right, column_shares=[3, 2]), collapse_panels=True)
 
 
 def khosravi_blueprint() -> rrb.Blueprint:
@@ -276,6 +300,33 @@ class Recorder:
         self._logged += 1
         if self._logged % self.flush_every == 0:
             self.rec.flush()
+
+    @_timed
+    def log_scalar_points(self, entity: str, step: int, time: float, positions: np.ndarray, radii,
+                          values: np.ndarray, vmax: float, *, diverging: bool = False) -> None:
+        """Points coloured by a scalar per point: viridis over [0, vmax], or with
+        ``diverging`` blue-white-red over [-vmax, vmax] (e.g. the sheet pile's moment)."""
+        if self.rec is None:
+            return
+        self._set_time(step, time, None)
+        v = np.asarray(values, float)
+        colours = _diverging(v, vmax) if diverging else _viridis(v, vmax)
+        self.rec.log(entity, rr.Points3D(np.asarray(positions, np.float32), radii=np.asarray(radii, np.float32),
+                                         colors=colours))
+
+    @_timed
+    def log_scalar_boxes(self, entity: str, step: int, time: float, centres: np.ndarray, half_sizes: np.ndarray,
+                         values: np.ndarray, vmax: float) -> None:
+        """Solid boxes coloured (viridis over [0, vmax]) by a scalar per box; nan boxes
+        are left out (e.g. a strain field's empty cells)."""
+        if self.rec is None:
+            return
+        v = np.asarray(values, float)
+        ok = np.isfinite(v)
+        self._set_time(step, time, None)
+        self.rec.log(entity, rr.Boxes3D(centers=np.asarray(centres, np.float32)[ok],
+                                        half_sizes=np.asarray(half_sizes, np.float32)[ok],
+                                        colors=_viridis(v[ok], vmax), fill_mode="solid"))
 
     # ------------------------------------------------------------------ series
     @_timed

@@ -5,14 +5,14 @@ force per width x N, moment per width x N^2), tables, figures and the recording.
 from __future__ import annotations
 
 import math
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
 from ..runner import Stopwatch, finish, open_run_folder
 from .case import SeismicCase
-from .measures import mononobe_okabe_overlay, rotation_fit, settlement, unit_weight
+from .measures import (STRAIN_CELL_GRAINS, STRAIN_MIN_GRAINS, STRAIN_TIMES, mononobe_okabe_overlay, period_mean,
+                       rotation_fit, row_moments, settlement, shear_strain_map, unit_weight)
 from .run import Prepared, Shaken, prepare, shake
 
 
@@ -50,15 +50,23 @@ def dynamic_summary(case: SeismicCase, x0, shaken: Shaken, porosity: float) -> d
             "passive_K_max_at_1_5m": max(passive_K(case, r, porosity) for r in shaken.readings)}
 
 
-def series_table(case: SeismicCase, x0, shaken: Shaken) -> dict[str, np.ndarray]:
+def series_table(case: SeismicCase, x0, shaken: Shaken, porosity: float) -> dict[str, np.ndarray]:
     """Time series in prototype units: time, base displacement, wall top displacement
-    relative to the base (toward the excavation), thrusts, largest moment."""
+    relative to the base (toward the excavation), thrusts, largest moment, the wall's
+    rotation (``rotation_fit``) and the passive K 1.5 m below the dredge line (each
+    reading, and its mean over one period of the base motion: the paper's Fig. 4)."""
     n = case.scale_N
-    return {"time_s": shaken.time * n, "base_displacement_m": shaken.base * n,
-            "top_displacement_m": np.array([-(r.x[-1] - x0[-1] - b) * n for r, b in zip(shaken.readings, shaken.base)]),
+    u = [-(r.x - x0 - b) for r, b in zip(shaken.readings, shaken.base)]
+    t = shaken.time * n
+    K = np.array([passive_K(case, r, porosity) for r in shaken.readings])
+    return {"time_s": t, "base_displacement_m": shaken.base * n,
+            "top_displacement_m": np.array([ur[-1] * n for ur in u]),
             "thrust_front_kN_per_m": np.array([r.thrust_front * n / 1e3 for r in shaken.readings]),
             "thrust_back_kN_per_m": np.array([r.thrust_back * n / 1e3 for r in shaken.readings]),
-            "max_moment_kN_m_per_m": np.array([np.max(np.abs(r.moment)) * n * n / 1e3 for r in shaken.readings])}
+            "max_moment_kN_m_per_m": np.array([np.max(np.abs(r.moment)) * n * n / 1e3 for r in shaken.readings]),
+            "rotation_deg": np.array([rotation_fit(r.z, ur, case)[0] for r, ur in zip(shaken.readings, u)]),
+            "passive_K_at_1_5m": K,
+            "passive_K_period_mean_at_1_5m": period_mean(t, K, 1.0 / case.frequency if case.frequency > 0 else 0.0)}
 
 
 def profiles_table(case: SeismicCase, shaken: Shaken) -> dict[str, np.ndarray]:
@@ -87,10 +95,65 @@ def _positions(arrays: dict) -> np.ndarray:
     return out
 
 
+def strain_maps(case: SeismicCase, prepared: Prepared, shaken: Shaken, cell_grains: float = STRAIN_CELL_GRAINS):
+    """[(Snapshot, ShearStrainMap)]: the soil's maximum shear strain since the start of
+    shaking at each snapshot (the paper's Fig. 7), model units."""
+    soil = np.setdiff1d(np.arange(len(prepared.model.radii)), prepared.model.wall)
+    x0 = _positions(prepared.main)
+    return [(snap, shear_strain_map(case, x0, snap.positions, soil, cell_grains)) for snap in shaken.snapshots]
+
+
+def strain_summary(case: SeismicCase, prepared: Prepared, shaken: Shaken, maps, asked=STRAIN_TIMES) -> dict:
+    """What result.json says of the strain field: times taken and skipped, the cell
+    [A], the largest and 95th-percentile strain per time, and how the last time's 95th
+    percentile moves with the cell size (1.5, 2, 3 mean diameters)."""
+    taken = [s.asked_s for s, _ in maps]
+    out = {"asked_s": list(asked), "times_s": [s.time_s for s, _ in maps],
+           "skipped_s": [t for t in asked if t not in taken],
+           "cell_grains": STRAIN_CELL_GRAINS, "cell_m": STRAIN_CELL_GRAINS * case.d_mean * case.scale_N,
+           "min_grains_per_cell": STRAIN_MIN_GRAINS,
+           "largest": [_nanstat(np.nanmax, m.max_shear_strain) for _, m in maps],
+           "p95": [_nanstat(_p95, m.max_shear_strain) for _, m in maps],
+           "assumptions": "cell size and minimum grains per cell [A] (the paper's sampling spheres are not sized); "
+                          "strain since the start of shaking, averaged across the periodic slab"}
+    if maps:
+        last = shaken._replace(snapshots=shaken.snapshots[-1:])
+        out["p95_last_by_cell_grains"] = {
+            f"{c:g}": _nanstat(_p95, strain_maps(case, prepared, last, c)[0][1].max_shear_strain)
+            for c in (1.5, STRAIN_CELL_GRAINS, 3.0)}
+    return out
+
+
+def _nanstat(f, g) -> float:
+    return float(f(g)) if np.isfinite(g).any() else math.nan
+
+
+def _p95(g) -> float:
+    return np.nanpercentile(g, 95)
+
+
+def strain_table(case: SeismicCase, maps) -> dict[str, np.ndarray]:
+    """The strain maps as one long table, prototype units: time [s], cell centre x from
+    the wall's front face and height above the base [m], grains in the cell, maximum
+    shear strain [-] (nan: too few grains)."""
+    n = case.scale_N
+    cols = {"time_s": [], "x_m": [], "height_m": [], "grains": [], "max_shear_strain": []}
+    for snap, m in maps:
+        xc, zc = 0.5 * (m.x_edges[1:] + m.x_edges[:-1]), 0.5 * (m.z_edges[1:] + m.z_edges[:-1])
+        X, Z = np.meshgrid(xc, zc, indexing="ij")
+        for key, v in (("time_s", np.full(X.size, snap.time_s)), ("x_m", X.ravel() * n),
+                       ("height_m", Z.ravel() * n), ("grains", m.grains.ravel()),
+                       ("max_shear_strain", m.max_shear_strain.ravel())):
+            cols[key].append(v)
+    return {k: np.concatenate(v) if v else np.array([]) for k, v in cols.items()}
+
+
 def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log=lambda s: None,
-                    record: bool = False, rrd=None, progress=None) -> tuple[dict, Path]:
+                    record: bool = False, rrd=None, progress=None,
+                    strain_times: tuple = STRAIN_TIMES) -> tuple[dict, Path]:
     """One frequency: prepare (cached under root/seismic/cache) and shake; writes the run
-    folder (and recording.rrd with ``record``)."""
+    folder (and recording.rrd with ``record``); the shear-strain field at ``strain_times``
+    (prototype [s]; the paper's Fig. 7 times by default)."""
     clock = Stopwatch()
     folder = open_run_folder("seismic", case, root)
     path = (Path(rrd) if isinstance(rrd, str) else folder.path / "recording.rrd") if record else None
@@ -99,48 +162,100 @@ def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log
     x0 = np.array(prepared.info["x_wall_before_excavation"])
     rows = prepared.model.wall_row
     x0_rows = np.bincount(rows, weights=x0[:, 0]) / np.bincount(rows)
-    with clock("shake"), _recording(case, path, folder, x0_rows, progress) as on_sample:
-        shaken = shake(case, prepared, fraction=fraction, on_sample=on_sample)
     porosity = float(prepared.info["porosity"])
+    rec = _Recording(case, path, folder, x0_rows, prepared.model, porosity, progress)
+    try:
+        with clock("shake"):
+            shaken = shake(case, prepared, fraction=fraction, on_sample=rec.on_sample, snapshot_times=strain_times)
+        with clock("strain"):
+            maps = strain_maps(case, prepared, shaken)
+        rec.finish(maps)
+    finally:
+        rec.close()
     result = _result(case, prepared, shaken, x0_rows, porosity, fraction)
-    series = series_table(case, x0_rows, shaken)
-    _write_tables(folder, case, prepared, shaken, series)
-    _figures(folder, case, shaken, series, porosity, settlement_table(case, prepared, shaken))
+    result["max_shear_strain"] = strain_summary(case, prepared, shaken, maps, strain_times)
+    if result["max_shear_strain"]["skipped_s"]:
+        log(f"shear strain: {result['max_shear_strain']['skipped_s']} s (prototype) not reached by this run, skipped")
+    series = series_table(case, x0_rows, shaken, porosity)
+    _write_tables(folder, case, prepared, shaken, series, maps)
+    _figures(folder, case, shaken, series, porosity, settlement_table(case, prepared, shaken), maps,
+             result["max_shear_strain"]["skipped_s"])
     result |= {"wall_time_s": clock.total, "stage_seconds": clock.seconds, "run_folder": str(folder.path)}
     finish(folder, result, particles=result["particles"], seed=case.seed, dt_s=result["dt_s"],
            steps=shaken.steps, wall_time_s=clock.total)
     return result, folder.path
 
 
-@contextmanager
-def _recording(case: SeismicCase, path, folder, x0_rows, progress):
-    """A sample callback: the recording (prototype seconds on the sim_time timeline:
-    thrusts, wall top displacement, largest moment every sample; the grains and wall
-    every 10th) and the progress bar."""
-    from dem3d import frame as take_frame
+class _Recording:
+    """The run's recording (prototype seconds on the sim_time timeline) and progress bar:
+    every sample the thrusts, wall top, rotation, passive K, largest moment and the sheet
+    pile's balls (kept, then logged at the end with one moment scale: the run's largest);
+    the grains every 10th sample; the shear-strain cells at their snapshot times."""
 
-    from ..runner import open_recording
-    rec = open_recording(path, study="seismic", recording_id=folder.path.name, dim=3)
-    n = case.scale_N
-    count = [0]
+    def __init__(self, case: SeismicCase, path, folder, x0_rows, model, porosity: float, progress):
+        from viz.recorder import seismic_blueprint
 
-    def on_sample(sim, reading, t_model, base, done, total):
-        t = t_model * n
+        from ..runner import open_recording
+        self.rec = open_recording(path, study="seismic", recording_id=folder.path.name, dim=3,
+                                  blueprint=seismic_blueprint())
+        self.case, self.x0_rows, self.model, self.porosity, self.progress = case, x0_rows, model, porosity, progress
+        self.count = 0
+        self.wall: list = []          # (step, time, wall ball positions, moment per ball [kN m/m])
+
+    def on_sample(self, sim, reading, t_model, base, done, total):
+        from dem3d import frame as take_frame
+        if self.rec.enabled:
+            self._log(sim, reading, t_model * self.case.scale_N, base, take_frame)
+        self.count += 1
+        if self.progress is not None:
+            self.progress(done, total)
+
+    def _log(self, sim, reading, t, base, take_frame):
+        n, case = self.case.scale_N, self.case
+        u = -(reading.x - self.x0_rows - base)
         metrics = {"thrust_back_kN_per_m": reading.thrust_back * n / 1e3,
                    "thrust_front_kN_per_m": reading.thrust_front * n / 1e3,
-                   "wall_top_displacement_m": float(-(reading.x[-1] - x0_rows[-1] - base) * n),
+                   "top_displacement_m": float(u[-1] * n), "rotation_deg": rotation_fit(reading.z, u, case)[0],
+                   "passive_K_at_1_5m": passive_K(case, reading, self.porosity),
                    "max_moment_kN_m_per_m": float(np.max(np.abs(reading.moment))) * n * n / 1e3}
-        if count[0] % 10 == 0:
-            rec.log_frame(take_frame(sim)._replace(time=t), metrics=metrics)
+        if self.count % 10 == 0:
+            self.rec.log_frame(take_frame(sim)._replace(time=t), metrics=metrics)
         else:
-            rec.log_metrics(sim.step_count, t, metrics)
-        count[0] += 1
-        if progress is not None:
-            progress(done, total)
-    try:
-        yield on_sample
-    finally:
-        rec.close()
+            self.rec.log_metrics(sim.step_count, t, metrics)
+        engine = np.empty(sim.n_spheres, np.int64)
+        engine[sim.original_index] = np.arange(sim.n_spheres)
+        moment = row_moments(reading)[self.model.wall_row] * n * n / 1e3
+        self.wall.append((int(sim.step_count), t, sim.spheres.x[engine[self.model.wall]].copy(), moment))
+
+    def finish(self, maps) -> None:
+        """The sheet pile (moment colours) and the strain cells, and the case text."""
+        if not self.rec.enabled:
+            return
+        from viz import paths as P
+        case = self.case
+        m_max = max((float(np.max(np.abs(m))) for *_, m in self.wall), default=0.0)
+        for step, t, x, m in self.wall:
+            self.rec.log_scalar_points(P.SHEET_PILE, step, t, x, 0.55 * case.wall_ball, m, m_max, diverging=True)
+        g_all = np.concatenate([g.max_shear_strain.ravel() for _, g in maps]) if maps else np.array([])
+        g_max = float(np.nanpercentile(g_all, 99)) if np.isfinite(g_all).any() else 1.0
+        for snap, g in maps:
+            xc, zc = 0.5 * (g.x_edges[1:] + g.x_edges[:-1]), 0.5 * (g.z_edges[1:] + g.z_edges[:-1])
+            X, Z = np.meshgrid(xc, zc, indexing="ij")
+            centres = np.column_stack([X.ravel(), np.full(X.size, -0.75 * case.width), Z.ravel()])
+            half = np.tile([0.5 * np.diff(g.x_edges)[0], 0.02 * case.width, 0.5 * np.diff(g.z_edges)[0]], (X.size, 1))
+            self.rec.log_scalar_boxes(P.SHEAR_STRAIN, snap.step, snap.time_s, centres, half,
+                                      g.max_shear_strain.ravel(), g_max)
+        self.rec.log_case(
+            f"# Sizkow & El Shamy, {case.frequency:g} Hz, 0.1 g (prototype)\n\nresolution {case.resolution}, "
+            f"grain scale {case.scale:g}; scene in model metres, time in prototype seconds.\n\n"
+            f"* world/sheet_pile: bending moment of each ball's row, blue -{m_max:.3g} ... white 0 ... red "
+            f"+{m_max:.3g} kN m/m (prototype; + the retained face in tension)\n"
+            f"* world/shear_strain (beside the slab, y < 0): maximum shear strain since the start of shaking, "
+            f"viridis 0 ... {g_max:.3g} (99th percentile), cells of {STRAIN_CELL_GRAINS:g} mean diameters [A], "
+            f"at {', '.join(f'{s.time_s:g}' for s, _ in maps) or 'no'} s")
+
+    def close(self) -> None:
+        self.rec.close()
 
 
 def _result(case, prepared, shaken, x0_rows, porosity, fraction) -> dict:
@@ -161,15 +276,34 @@ def _result(case, prepared, shaken, x0_rows, porosity, fraction) -> dict:
                                                       prototype_factors(case.scale_N).items()) + ")"}
 
 
-def _write_tables(folder, case, prepared, shaken, series) -> None:
+def _write_tables(folder, case, prepared, shaken, series, maps) -> None:
     for name, table in (("series.csv", series), ("pressure_profiles.csv", profiles_table(case, shaken)),
-                        ("settlement.csv", settlement_table(case, prepared, shaken))):
+                        ("settlement.csv", settlement_table(case, prepared, shaken)),
+                        ("strain_field.csv", strain_table(case, maps))):
         cols = list(table)
         folder.write_csv(name, cols, zip(*(np.asarray(table[c]) for c in cols)))
 
 
-def _figures(folder, case, shaken, series, porosity, settled) -> None:
-    from viz.figures import plot_seismic
-    plot_seismic(case.scale_N, shaken.readings, series, profiles_table(case, shaken),
-                 mononobe_okabe_overlay(case, porosity), folder.path / "seismic.png", settlement=settled,
-                 title=f"{case.frequency:g} Hz, 0.1 g (prototype), grain scale {case.scale:g}")
+def _figures(folder, case, shaken, series, porosity, settled, maps, skipped) -> None:
+    from viz.figures import plot_seismic, plot_seismic_K_rotation, plot_seismic_strain
+    title = f"{case.frequency:g} Hz, 0.1 g (prototype), grain scale {case.scale:g}"
+    mo = mononobe_okabe_overlay(case, porosity)
+    plot_seismic(case.scale_N, shaken.readings, series, profiles_table(case, shaken), mo,
+                 folder.path / "seismic.png", settlement=settled, title=title)
+    plot_seismic_K_rotation(series["rotation_deg"], series["passive_K_at_1_5m"],
+                            series["passive_K_period_mean_at_1_5m"], folder.path / "K_vs_rotation.png",
+                            K_p={"Coulomb K_P (phi 31 deg, delta 0)": mo["passive_static"].K,
+                                 "Mononobe-Okabe K_PE (kh 0.1)": mo["passive_MO"].K},
+                            title=f"K 1.5 m below the dredge line vs wall rotation (Fig. 4)\n{title}")
+    n = case.scale_N
+    note = (f"cells of {STRAIN_CELL_GRAINS:g} mean diameters, >= {STRAIN_MIN_GRAINS} grains [A]; "
+            "strain since the start of shaking, averaged across the periodic slab")
+    if skipped:
+        note += f"; {', '.join(f'{t:g}' for t in skipped)} s not reached by this run (skipped)"
+    if maps:
+        t = 2.0 * case.wall_ball
+        plot_seismic_strain(maps[0][1].x_edges * n, maps[0][1].z_edges * n,
+                            [(s.time_s, m.max_shear_strain) for s, m in maps], folder.path / "shear_strain.png",
+                            wall=(0.0, t * n, case.toe * n, (case.toe + case.wall_length) * n),
+                            ground=(case.front_height * n, case.retained_height * n),
+                            title=f"maximum shear strain since the start of shaking (Fig. 7), {title}", note=note)

@@ -14,6 +14,11 @@ per width positive when the retained face is in tension (the static cantilever's
   distance from the wall's back face.
 * ``mononobe_okabe_overlay``: M-O active (retained side, surface to toe) and passive
   (dredge line to toe) profiles with phi and the DEM's unit weight, prototype units.
+* ``row_moments``: the bending moment at each row of wall balls (for colouring the wall).
+* ``shear_strain_map``: the maximum shear strain in the x-z plane between two sets of
+  sphere positions (``dem3d.measure.strain_field``, one cell across the periodic slab).
+* ``period_mean``: a running mean over one period of the base motion (the paper's
+  "average" K of Fig. 4).
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ import numpy as np
 from analytic.inputs import Soil, Wall as WallInput
 from analytic.seismic import mononobe_okabe
 from analytic.classical import coulomb
-from dem3d.measure import section_forces, settlement_profile
+from dem3d.measure import max_shear_strain, section_forces, settlement_profile, strain_field
 
 from .case import SeismicCase
 
@@ -142,3 +147,75 @@ def mononobe_okabe_overlay(case: SeismicCase, porosity: float, phi_deg: float = 
     return {"active_static": coulomb(soil, act), "active_MO": mononobe_okabe(soil, act, case.amplitude_g),
             "passive_static": coulomb(soil, pas, passive=True),
             "passive_MO": mononobe_okabe(soil, pas, case.amplitude_g, passive=True)}
+
+
+def row_moments(reading: WallReading) -> np.ndarray:
+    """(rows,) bending moment per width at each row's centre [N m/m]: the mean of the
+    joints below and above it, the wall's free toe and top carrying none."""
+    m = np.concatenate([[0.0], np.asarray(reading.moment, float), [0.0]])
+    return 0.5 * (m[:-1] + m[1:])
+
+
+#: prototype times [s] of the paper's Fig. 7 (maximum shear strain, 0.1 g 5 Hz) [F]
+STRAIN_TIMES = (1.5, 2.0, 3.5, 9.0)
+#: strain cell side in x and z, in mean grain diameters [A]: the paper's sampling spheres
+#: are not sized; 2 d holds ~20 grains a cell across the 5-grain periodic slab (a
+#: least-squares affine fit needs >= 4, and fewer grains make the field noisier)
+STRAIN_CELL_GRAINS = 2.0
+#: fewest grains (by reference centre) in a cell for its fit [A]
+STRAIN_MIN_GRAINS = 10
+
+
+class ShearStrainMap(NamedTuple):
+    """Maximum shear strain in the x-z plane, model units.
+
+    x_edges, z_edges:  (nx + 1,), (nz + 1,) cell edges [m]
+    grains:            (nx, nz) grains (by reference centre) in each cell
+    max_shear_strain:         (nx, nz) maximum engineering shear strain [-] (nan: < STRAIN_MIN_GRAINS)
+    """
+
+    x_edges: np.ndarray
+    z_edges: np.ndarray
+    grains: np.ndarray
+    max_shear_strain: np.ndarray
+
+
+def strain_edges(case: SeismicCase, cell_grains: float = STRAIN_CELL_GRAINS) -> tuple[np.ndarray, np.ndarray]:
+    """Cell edges along x (front boundary to back boundary) and z (base to the retained
+    surface) [m], cells of about ``cell_grains`` mean diameters."""
+    cell = cell_grains * case.d_mean
+    x_lo, x_hi = -case.front, 2.0 * case.wall_ball + case.behind
+    nx = max(1, int(round((x_hi - x_lo) / cell)))
+    nz = max(1, int(round(case.retained_height / cell)))
+    return np.linspace(x_lo, x_hi, nx + 1), np.linspace(0.0, case.retained_height, nz + 1)
+
+
+def shear_strain_map(case: SeismicCase, x_ref: np.ndarray, x_cur: np.ndarray, soil: np.ndarray,
+                     cell_grains: float = STRAIN_CELL_GRAINS) -> ShearStrainMap:
+    """The soil's maximum shear strain from ``x_ref`` to ``x_cur`` (specimen order [m]):
+    the best-fit displacement gradient per cell (``strain_field``; one cell spans the
+    periodic slab, so the field is the slab's average, displacements unwrapped across
+    it), then the in-plane Mohr circle's diameter sqrt((e_xx - e_zz)^2 + (2 e_xz)^2)
+    (``max_shear_strain`` on axes x, z; simple shear gamma gives gamma)."""
+    xe, ze = strain_edges(case, cell_grains)
+    ye = np.array([-case.width, 2.0 * case.width])       # every grain, wrapped or not
+    sf = strain_field(np.asarray(x_ref)[soil], np.asarray(x_cur)[soil], (xe, ye, ze),
+                      min_count=STRAIN_MIN_GRAINS, period=(1, case.width))
+    shape = (len(xe) - 1, len(ze) - 1)
+    gamma = max_shear_strain(sf.strain, plane=(0, 2)).reshape(shape)
+    return ShearStrainMap(xe, ze, sf.count.reshape(shape), gamma)
+
+
+def period_mean(t: np.ndarray, values: np.ndarray, period: float) -> np.ndarray:
+    """Centred running mean of ``values`` over one ``period`` of ``t`` (same units),
+    shortened at the ends of the record."""
+    v = np.asarray(values, float)
+    t = np.asarray(t, float)
+    if len(v) < 2 or not period > 0:
+        return v.copy()
+    dt = float(np.median(np.diff(t)))
+    h = max(0, int(round(0.5 * period / dt)))
+    c = np.concatenate([[0.0], np.cumsum(v)])
+    i = np.arange(len(v))
+    lo, hi = np.maximum(i - h, 0), np.minimum(i + h + 1, len(v))
+    return (c[hi] - c[lo]) / (hi - lo)

@@ -159,6 +159,7 @@ class Shaken(NamedTuple):
     readings:  list of measures.WallReading, the first at the start of shaking
     final:     the main simulation's final arrays (to_arrays)
     steps:     steps taken; seconds: wall time
+    snapshots: list of Snapshot, at the asked prototype times the run reached
     """
 
     time: np.ndarray
@@ -167,6 +168,22 @@ class Shaken(NamedTuple):
     final: dict
     steps: int
     seconds: float
+    snapshots: tuple = ()
+
+
+class Snapshot(NamedTuple):
+    """Sphere positions at one asked time of the shaking.
+
+    asked_s:   the time asked, prototype [s] since shaking began
+    time_s:    the reading's time (the nearest, within half of ``record_every``), prototype [s]
+    step:      the engine's step count then
+    positions: (n, 3) specimen order [m] (model units)
+    """
+
+    asked_s: float
+    time_s: float
+    step: int
+    positions: np.ndarray
 
 
 def coupled(case: SeismicCase, prepared: Prepared):
@@ -195,9 +212,11 @@ def coupled(case: SeismicCase, prepared: Prepared):
 
 
 def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
-          on_sample: Callable | None = None) -> Shaken:
+          on_sample: Callable | None = None, snapshot_times: tuple = ()) -> Shaken:
     """The dynamic stage over ``fraction`` of ``case.duration`` (a timing run uses a few
-    per cent), a reading every ``record_every`` prototype seconds."""
+    per cent), a reading every ``record_every`` prototype seconds; the sphere positions
+    kept at the readings nearest ``snapshot_times`` (prototype [s]; only those, so
+    memory stays small; times the run does not reach are left out)."""
     wall_clock = time.perf_counter()
     main, columns, bnds, table = coupled(case, prepared)
     t0 = main.time
@@ -211,6 +230,7 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
     every = max(1, int(round(case.to_model_time(case.record_every) / main.dt)))
     main.evaluate_forces()
     times, base, readings = [0.0], [0.0], [wall_reading(main, case, prepared.model)]
+    pending, snaps = sorted(snapshot_times), []
     done = 0
     while done < total:
         k = min(every, total - done)
@@ -219,7 +239,10 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
         times.append(main.time - t0)
         base.append(table.displacement(main.time)[0])
         readings.append(wall_reading(main, case, prepared.model))
+        t_proto = case.to_prototype_time(times[-1])
+        while pending and t_proto >= pending[0] - 0.5 * case.record_every:
+            snaps.append(Snapshot(pending.pop(0), t_proto, int(main.step_count), _specimen(main, main.spheres.x)))
         if on_sample is not None:
             on_sample(main, readings[-1], times[-1], base[-1], done, total)
     return Shaken(np.array(times), np.array(base), readings, main.to_arrays(), done,
-                  time.perf_counter() - wall_clock)
+                  time.perf_counter() - wall_clock, tuple(snaps))
