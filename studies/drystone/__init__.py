@@ -44,6 +44,9 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     return result, closing_line(result, None, folder)
 
 
+_PHASES = ("drop", "place", "settle", "read")
+
+
 def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
     from ..runner import closing_line
@@ -53,8 +56,10 @@ def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
     with progress(opts.quiet) as bar:
         task = bar.add_task(f"{case.wall}: backfill height (% of h + formwork)", total=100)
 
-        def tick(hb, crest):
-            bar.update(task, completed=100 * hb / top, status=f"H_b {hb:.2f} m, crest {crest * 1e3:.2f} mm")
+        def tick(hb, crest, r):
+            bar.update(task, completed=100 * hb / top,
+                       status=f"H_b {hb:.2f} m, crest {crest * 1e3:.2f} mm, {r['grains']} grains ({r['held']} held), "
+                              f"{r['steps']} steps, stage CPU {sum(r.get(f'cpu_{k}_s', 0.0) for k in _PHASES):.0f} s")
         result, folder = compare_backfill(case, root=Path(opts.out), progress=tick)
     return result, closing_line(result, None, folder)
 
@@ -75,7 +80,10 @@ def _compare_b_text(r: dict) -> str:
         f"paper's {lo['grain_friction_deg']:g} / {lo['interface_friction_deg']:g} deg",
         f"  wall {r['wall_time_s']:.1f} s, CPU {r['cpu_time_s']:.1f} s, "
         f"{r['speed']['steps_per_cpu_s']:.0f} steps/CPU-s, "
-        f"{r['speed']['body_steps_per_cpu_s']:.3g} body-steps/CPU-s",
+        f"{r['speed']['body_steps_per_cpu_s']:.3g} body-steps/CPU-s; CPU by phase: build "
+        f"{r['speed'].get('cpu_build_s', float('nan')):.0f} s, "
+        + ", ".join(f"{k} {v:.0f} s ({r['speed']['steps_by_phase'][k]} steps)"
+                    for k, v in r['speed'].get('cpu_by_phase_s', {}).items()),
         "  assumed: " + "; ".join(r["assumptions"])])
 
 
