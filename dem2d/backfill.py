@@ -1,4 +1,4 @@
-"""Dry-stone case B: a capsule-gravel backfill placed in layers against a ``BlockWall``.
+"""Dry-stone case B: a gravel backfill (grains of ``Gravel.shape``) placed in layers against a ``BlockWall``.
 
 S-OET (../shared/reference/drystone-walls.md 3.1) load Colas's walls with their gravel:
 10 cm layers in a 2.5 m wide container, the slope re-cut to 32 deg before each stage,
@@ -21,7 +21,7 @@ kinetic energy stays above 0.1 J/m (10 checks). Here:
   the side formworks did, so walls may not fail above the crest);
 * a stage raises the fill surface by ``layer_m`` at the inner face: the band between the
   present surface and the new one, y_s(x) = H_b + (x - x_face) tan(beta) (rising away
-  from the wall: reference 3.3 [A]), is filled by a column-wise cloud of capsules (per
+  from the wall: reference 3.3 [A]), is filled by a column-wise cloud of grains (per
   column as many grains as its share of the band holds at ``porosity``, times
   ``overfill``) dropped just above the present surface, at the placement friction; once
   it has settled the local friction is restored, grains above y_s are cut away (the

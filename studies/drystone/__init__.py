@@ -143,7 +143,7 @@ COMPARE = Command(
     help="a dry-stone wall to failure: Villemus's under water (case A) or Colas's under gravel (case B)",
     description="Case A: courses of 0.30 x 0.125 m rigid blocks with staggered joints, first course fixed, water "
                 "raised by 1 % of h per increment until the wall fails. Case B: 0.33 x 0.12 m blocks, first course "
-                "free, capsule gravel placed in 10 cm stages with the slope re-cut to 32 deg until the wall fails "
+                "free, gravel (rounded hexagons) placed in 10 cm stages with the slope re-cut to 32 deg until the wall fails "
                 "(an hour or more of CPU at full size). DEM beside the limit equilibrium and the site value. "
                 "Example: wallsim compare drystone --wall V3L --geometry disk-count",
     default_case=_default_case, run=_compare, text=_compare_text, seed_key=None,
