@@ -1,4 +1,4 @@
-"""Dry-stone case B: a capsule-gravel backfill placed in layers against a ``BlockWall``.
+"""Dry-stone case B: a gravel backfill (grains of ``Gravel.shape``) placed in layers against a ``BlockWall``.
 
 S-OET (../shared/reference/drystone-walls.md 3.1) load Colas's walls with their gravel:
 10 cm layers in a 2.5 m wide container, the slope re-cut to 32 deg before each stage,
@@ -21,7 +21,7 @@ kinetic energy stays above 0.1 J/m (10 checks). Here:
   the side formworks did, so walls may not fail above the crest);
 * a stage raises the fill surface by ``layer_m`` at the inner face: the band between the
   present surface and the new one, y_s(x) = H_b + (x - x_face) tan(beta) (rising away
-  from the wall: reference 3.3 [A]), is filled by a column-wise cloud of capsules (per
+  from the wall: reference 3.3 [A]), is filled by a column-wise cloud of grains (per
   column as many grains as its share of the band holds at ``porosity``, times
   ``overfill``) dropped just above the present surface, at the placement friction; once
   it has settled the local friction is restored, grains above y_s are cut away (the
@@ -48,6 +48,7 @@ toe, y up (as ``blocks``).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -127,7 +128,8 @@ class StageReading(dict):
     part of ``thrust_N_m`` when the column is on the crest block, not when it is fixed),
     ``container_vertical_N_m``, ``wall_vertical_N_m`` (upward reactions on the fill),
     ``fill_weight_N_m``, ``grains``, ``held``, ``crest_displacement_m``, ``settled``,
-    ``time_s``, ``steps``."""
+    ``time_s``, ``steps``; per phase (``_PhaseClock``) ``cpu_<phase>_s`` and
+    ``steps_<phase>`` for drop, place, settle, read."""
 
 
 @dataclass
@@ -279,8 +281,11 @@ class BackfilledWall:
         p = self.plan
         k = int(round(max(self.backfill_height_m, 0.0) / p.layer_m))
         h_old, h_new = self.backfill_height_m, round((k + 1) * p.layer_m, 9)
+        clock = _PhaseClock(self.wall)
         new = self._drop(h_old, h_new)
+        clock.lap("drop")
         settled = self._settle(p.max_stage_s, on_reading)
+        clock.lap("place")
         for b in new:
             for s in b.shapes:
                 s.friction = self._fr[FILL_TYPE]
@@ -288,8 +293,12 @@ class BackfilledWall:
         self._cut(h_new)
         if not self.failed:
             settled = self._settle(p.max_stage_s, on_reading) and settled
+        clock.lap("settle")
         self._hold()
-        return self.read(settled=settled)
+        r = self.read(settled=settled)
+        clock.lap("read")
+        r.update(clock.phases())
+        return r
 
     def _drop(self, h_old: float, h_new: float) -> list:
         """A column-wise cloud for the band between the surface at ``h_old`` and at
@@ -395,6 +404,23 @@ class BackfilledWall:
             fill_weight_N_m=self.fill_weight(), grains=len(self.bodies), held=len(self.held),
             crest_displacement_m=w.crest_displacement(self.x_start), settled=bool(settled), failed=self.failed,
             time_s=w.time, steps=w.steps)
+
+
+class _PhaseClock:
+    """CPU time [s] and steps of the phases of a stage (where a case-B run's time goes):
+    drop (the cloud created), place (settling at the placement friction), settle (cut and
+    settling at the local friction), read (hold and the force readings)."""
+
+    def __init__(self, wall: BlockWall):
+        self.wall, self.t, self.n, self.out = wall, time.process_time(), wall.steps, {}
+
+    def lap(self, name: str) -> None:
+        t, n = time.process_time(), self.wall.steps
+        self.out[f"cpu_{name}_s"], self.out[f"steps_{name}"] = t - self.t, n - self.n
+        self.t, self.n = t, n
+
+    def phases(self) -> dict:
+        return dict(self.out)
 
 
 def _fill_on_blocks(blocks) -> tuple[np.ndarray, float]:

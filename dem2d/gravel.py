@@ -75,7 +75,7 @@ class Gravel:
                       bulk unit weight at n = 0.22 is the measured loose 14.9 kN/m^3
                       (rho = 14900 / (g (1 - 0.22))); 2D grains have no 3D solid density.
     friction_deg:     local fill-fill friction [deg] (S-OET: 45, calibrated for PFC's soft
-                      contacts; ours for rigid capsules, 72.8, is in the case-B settings:
+                      contacts; ours for rigid rounded hexagons, 50, is in the case-B settings:
                       docs/validation/gravel_calibration.md)
     interface_friction_deg: local fill-block friction [deg] (S-OET: 25; ours: the same report)
     placement_friction_deg: fill-fill friction while placing [deg] (S-OET: 15.6; ours 45)

@@ -44,6 +44,9 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     return result, closing_line(result, None, folder)
 
 
+_PHASES = ("drop", "place", "settle", "read")
+
+
 def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
     from ..runner import closing_line
@@ -53,8 +56,10 @@ def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
     with progress(opts.quiet) as bar:
         task = bar.add_task(f"{case.wall}: backfill height (% of h + formwork)", total=100)
 
-        def tick(hb, crest):
-            bar.update(task, completed=100 * hb / top, status=f"H_b {hb:.2f} m, crest {crest * 1e3:.2f} mm")
+        def tick(hb, crest, r):
+            bar.update(task, completed=100 * hb / top,
+                       status=f"H_b {hb:.2f} m, crest {crest * 1e3:.2f} mm, {r['grains']} grains ({r['held']} held), "
+                              f"{r['steps']} steps, stage CPU {sum(r.get(f'cpu_{k}_s', 0.0) for k in _PHASES):.0f} s")
         result, folder = compare_backfill(case, root=Path(opts.out), progress=tick)
     return result, closing_line(result, None, folder)
 
@@ -75,7 +80,10 @@ def _compare_b_text(r: dict) -> str:
         f"paper's {lo['grain_friction_deg']:g} / {lo['interface_friction_deg']:g} deg",
         f"  wall {r['wall_time_s']:.1f} s, CPU {r['cpu_time_s']:.1f} s, "
         f"{r['speed']['steps_per_cpu_s']:.0f} steps/CPU-s, "
-        f"{r['speed']['body_steps_per_cpu_s']:.3g} body-steps/CPU-s",
+        f"{r['speed']['body_steps_per_cpu_s']:.3g} body-steps/CPU-s; CPU by phase: build "
+        f"{r['speed'].get('cpu_build_s', float('nan')):.0f} s, "
+        + ", ".join(f"{k} {v:.0f} s ({r['speed']['steps_by_phase'][k]} steps)"
+                    for k, v in r['speed'].get('cpu_by_phase_s', {}).items()),
         "  assumed: " + "; ".join(r["assumptions"])])
 
 
@@ -135,7 +143,7 @@ COMPARE = Command(
     help="a dry-stone wall to failure: Villemus's under water (case A) or Colas's under gravel (case B)",
     description="Case A: courses of 0.30 x 0.125 m rigid blocks with staggered joints, first course fixed, water "
                 "raised by 1 % of h per increment until the wall fails. Case B: 0.33 x 0.12 m blocks, first course "
-                "free, capsule gravel placed in 10 cm stages with the slope re-cut to 32 deg until the wall fails "
+                "free, gravel (rounded hexagons) placed in 10 cm stages with the slope re-cut to 32 deg until the wall fails "
                 "(an hour or more of CPU at full size). DEM beside the limit equilibrium and the site value. "
                 "Example: wallsim compare drystone --wall V3L --geometry disk-count",
     default_case=_default_case, run=_compare, text=_compare_text, seed_key=None,

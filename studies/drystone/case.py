@@ -30,18 +30,23 @@ def reference() -> dict:
 @dataclass(frozen=True)
 class BackfillSettings:
     """Case B (``dem2d.backfill``), used by the C walls only. Local values: ours from
-    docs/validation/gravel_calibration.md (rigid capsules), the paper's (PFC2D) beside.
+    docs/validation/gravel_calibration.md (rigid rounded hexagons), the paper's (PFC2D) beside.
 
-    grain_friction_deg:     grain-grain local friction [deg] (ours 72.8: biaxial peak 37.7 at
-                            35 kPa; paper's 45)
-    interface_friction_deg: fill-block local friction [deg] (ours 84.6: global 37.7 on a
-                            flat face, seed scatter of several degrees; paper's 25)
+    grain_friction_deg:     grain-grain local friction [deg] (ours 50: nearest to both biaxial
+                            targets at 35 kPa, peak 36.7 (37.7) and critical state 31.2 (32);
+                            paper's 45)
+    interface_friction_deg: fill-block local friction [deg] (ours 45: global 37.7 on a flat
+                            face is out of reach, the global angle stays at 28-30 deg for any
+                            local value from 45 to 89; 45 gives the highest, 30.4; paper's 25)
     placement_friction_deg: fill-fill friction while a layer falls [deg] (ours 45: n = 0.22
                             in ``GravelBox``; paper's 15.6, n = 0.146 here)
     width_min_m, width_max_m: grain widths [m] (10-16 mm; larger only for tests)
-    grain_shape:            capsule (the calibrated one, default) | clump3 | hexagon
-                            (``dem2d.gravel``; the local frictions above are the capsules':
-                            another shape needs its own calibration, gravel_calibration_discussion.md)
+    grain_shape:            hexagon (rounded elongated hexagon, the calibrated one, default) |
+                            capsule | clump3 (``dem2d.gravel``; the local frictions above are the
+                            hexagons': another shape needs its own calibration (capsules: 72.8 and
+                            84.6 deg), gravel_calibration_discussion.md). Why hexagons: capsules
+                            calibrated on the peak have a critical state of 25 deg, under the
+                            32-deg slope the fill is re-cut to
     layer_m, slope_deg, container_m, formwork_m: ``FillPlan`` (0.10 m, 32 deg, 2.5 m; the
                             formwork column height [A] 1.0 m)
     formwork:               "crest" (S-OET 5.2: the column is fixed to the inner face, part of
@@ -57,12 +62,12 @@ class BackfillSettings:
     seed:                   grain sizes and orientations
     """
 
-    grain_friction_deg: float = 72.8
-    interface_friction_deg: float = 84.6
+    grain_friction_deg: float = 50.0
+    interface_friction_deg: float = 45.0
     placement_friction_deg: float = 45.0
     width_min_m: float = 0.010
     width_max_m: float = 0.016
-    grain_shape: str = "capsule"
+    grain_shape: str = "hexagon"
     layer_m: float = 0.10
     slope_deg: float = 32.0
     container_m: float = 2.5

@@ -61,6 +61,7 @@ def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None) -> dict:
     loading = LoadingPlan(failure_energy_J_m=0.1, failure_readings=10, equilibrium_energy_J_m=1e-5)
     bw = BackfilledWall.build(s, masonry(case), bf.gravel(), bf.plan(),
                               BlockSolver(dt=case.dt, iterations=bf.iterations), loading, seed=bf.seed)
+    cpu_build = time.process_time() - c0
     stop = bf.max_height_m if bf.max_height_m is not None else s.height_m + bf.formwork_m
     stages, body_steps = [], 0
     x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
@@ -77,11 +78,15 @@ def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None) -> dict:
     mech = classify_mechanism(s, case.block_height, bw.wall.course, bw.wall.dynamic, x_ref, a_ref,
                               bw.wall.positions(), bw.wall.angles()) if bw.failed else None
     cpu = time.process_time() - c0
+    phases = ("drop", "place", "settle", "read")
     return {"bw": bw, "stages": stages, "mechanism": mech, "reference_outlines": out_ref,
             "wall_time_s": time.perf_counter() - t0, "cpu_time_s": cpu,
             "speed": {"steps": bw.wall.steps, "steps_per_cpu_s": bw.wall.steps / max(cpu, 1e-9),
                       "body_steps_per_cpu_s": body_steps / max(cpu, 1e-9), "bodies_last": stages[-1]["grains"]
-                      if stages else 0}}
+                      if stages else 0, "cpu_build_s": cpu_build,
+                      # where the time goes: per phase of the stages (dem2d.backfill._PhaseClock)
+                      "cpu_by_phase_s": {k: sum(r.get(f"cpu_{k}_s", 0.0) for r in stages) for k in phases},
+                      "steps_by_phase": {k: sum(r.get(f"steps_{k}", 0) for r in stages) for k in phases}}}
 
 
 def backfill_result(case: DrystoneCase, run: dict) -> dict:
@@ -142,7 +147,9 @@ def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None
     st, co = result["stages"], result["coulomb"]["rows"]
     keys = ["backfill_height_m", "thrust_N_m", "thrust_vertical_N_m", "thrust_height_m", "formwork_thrust_N_m",
             "container_vertical_N_m",
-            "wall_vertical_N_m", "fill_weight_N_m", "grains", "held", "crest_displacement_m", "settled", "time_s"]
+            "wall_vertical_N_m", "fill_weight_N_m", "grains", "held", "crest_displacement_m", "settled", "time_s",
+            "steps"] + [f"{q}_{k}{u}" for k in ("drop", "place", "settle", "read")
+                        for q, u in (("cpu", "_s"), ("steps", ""))]
     folder.write_csv("stages.csv", keys + ["coulomb_thrust_N_m", "coulomb_thrust_height_m"],
                      [[r[k] for k in keys] + [c["thrust_N_m"], c["thrust_height_m"]] for r, c in zip(st, co)])
     h = [r["backfill_height_m"] for r in st]
@@ -169,7 +176,7 @@ def compare_backfill(case: DrystoneCase, *, root: Path, progress=None) -> tuple[
     from ..runner import finish, open_run_folder
 
     folder = open_run_folder("drystone", case, root, seed=case.backfill.seed)
-    hook = None if progress is None else (lambda bw, r: progress(r["backfill_height_m"], r["crest_displacement_m"]))
+    hook = None if progress is None else (lambda bw, r: progress(r["backfill_height_m"], r["crest_displacement_m"], r))
     run = run_backfill(case, on_stage=hook)
     result = backfill_result(case, run) | {"run_folder": str(folder.path)}
     write_outputs_b(folder, case, result, run)

@@ -56,8 +56,10 @@ def _text(result: dict) -> str:
         lines += [f"biaxial, local {r['friction_deg']:g} deg: peak {r['phi_peak_deg']:.1f}, critical "
                   f"{r['phi_cs_deg']:.1f} deg, porosity {r['porosity']:.3f} (inner {r['inner_porosity']:.3f})"
                   for r in b["rows"]]
-        lines.append(f"grain friction for peak {result['targets']['phi_peak_deg']:g} deg: "
-                     f"{_f(b['grain_friction_deg'])} deg (paper's local: 45)")
+        lines.append(f"grain friction nearest to peak {result['targets']['phi_peak_deg']:g} and critical state "
+                     f"{result['targets']['phi_cs_deg']:g} deg: {_f(b['grain_friction_deg'])} deg (there "
+                     f"{_f(b['phi_peak_at_chosen_deg'])} / {_f(b['phi_cs_at_chosen_deg'])}; peak alone: "
+                     f"{_f(b['peak_only']['value_deg'])}; paper's local: 45)")
     if "interface" in result:
         i = result["interface"]
         lines += [f"interface, local {r['interface_friction_deg']:g} deg: global {r['global_angle_deg']:.2f} "
@@ -69,15 +71,16 @@ def _text(result: dict) -> str:
 
 CALIBRATE = Command(
     verb="calibrate", help="the gravel's local frictions from the biaxial and interface targets (minutes)",
-    description="Biaxial tests of the capsule gravel at 35 kPa over local grain frictions (peak 37.7 deg), then "
+    description="Biaxial tests of the gravel (rounded hexagons) at 35 kPa over local grain frictions (peak 37.7 and "
+                "critical state 32 deg), then "
                 "the interface shear test over local fill-block frictions (global 37.7 deg). "
                 "Example: wallsim calibrate gravel --frictions 45,60,75 --docs docs/validation",
     default_case=_default_plan, run=_calibrate, text=_text, seed_key=None,
     options=(Option("--tests", "both | biaxial | interface (both)", key="tests",
                     choices=("both", "biaxial", "interface")),
-             Option("--frictions", "local grain frictions of the biaxial series [deg] (45,60,75,89)",
+             Option("--frictions", "local grain frictions of the biaxial series [deg] (35,40,45,50,55)",
                     key="frictions_deg", parse=number_list("frictions", lo=0, hi=90, unit="deg")),
-             Option("--interface-frictions", "local fill-block frictions [deg] (25,37.7,45,60,75,89)",
+             Option("--interface-frictions", "local fill-block frictions [deg] (37.7,45,60,75,89)",
                     key="interface_frictions_deg", parse=number_list("interface-frictions", lo=0, hi=90, unit="deg")),
              Option("--grain-friction", "grain friction of the interface series [deg] (from the biaxial series)",
                     key="grain_friction_deg", parse=number("grain-friction", 0, 89, unit="deg")),

@@ -88,6 +88,9 @@ def markdown(result: dict) -> str:
         if not part:
             return "not run"
         c = part.get("choice", {})
+        if "phi_cs_deg" in c:       # the biaxial choice on both targets
+            return (f"{_f(part[key])} deg (there peak {c['phi_peak_deg']:.1f}, critical state {c['phi_cs_deg']:.1f} "
+                    f"deg; the peak alone would give {_f(part['peak_only']['value_deg'])} deg)")
         return f"{_f(part[key])} deg" + ("" if c.get("reached", True) else
                                           f" (target not reached: closest global {c['closest_global_deg']:.1f} deg)")
     lines = ["# Case-B gravel: local frictions calibrated against the global targets", "",
@@ -96,12 +99,15 @@ def markdown(result: dict) -> str:
              "(Colas's triaxial at 35 kPa; S-OET's interface test).", "",
              f"| value | paper's local (PFC2D) | ours ({grains}, pymunk) | global target |", "|---|---|---|---|",
              f"| grain-grain friction | {p['grain_friction_deg']:g} deg | "
-             f"{ours(b, 'grain_friction_deg')} | peak {t['phi_peak_deg']:g} deg at 35 kPa |",
+             f"{ours(b, 'grain_friction_deg')} | peak {t['phi_peak_deg']:g} and critical state "
+             f"{t['phi_cs_deg']:g} deg at 35 kPa |",
              f"| fill-block (interface) friction | {p['interface_friction_deg']:g} deg | "
              f"{ours(i, 'interface_friction_deg')} | {t['interface_angle_deg']:g} deg |", ""]
     if b:
-        lines += ["## Biaxial at 35 kPa", "", f"Critical state at our grain friction: "
-                  f"{_f(b['phi_cs_at_chosen_deg'])} deg (paper: about {t['phi_cs_deg']:g}, the angle of repose).", "",
+        lines += ["## Biaxial at 35 kPa", "", f"At our grain friction (nearest to both targets, "
+                  f"{b['choice'].get('rule', 'peak alone')}): peak {_f(b.get('phi_peak_at_chosen_deg'))} deg "
+                  f"(target {t['phi_peak_deg']:g}), critical state {_f(b['phi_cs_at_chosen_deg'])} deg "
+                  f"(about {t['phi_cs_deg']:g}, Colas's angle of repose).", "",
                   "| local friction | seeds | peak (sd) | critical state (sd) | dilatancy "
                   "| porosity (specimen / inner) |",
                   "|---|---|---|---|---|---|"]

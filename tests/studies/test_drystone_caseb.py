@@ -43,7 +43,7 @@ def test_unmoving_wall_carries_at_least_the_active_thrust(result):
 def test_output_names_paper_and_our_values(result):
     assert result["local_values"]["paper"] == {"grain_friction_deg": 45.0, "interface_friction_deg": 25.0,
                                                "placement_friction_deg": 15.6}
-    assert result["local_values"]["ours"]["grain_friction_deg"] == 72.8
+    assert result["local_values"]["ours"]["grain_friction_deg"] == 50.0   # gravel_calibration.json
     assert result["measured_height_m"] == 2.30 and result["paper_dem_heights_m"] == [2.46, 2.38]
     folder = result["run_folder"]
     rows = json.loads(open(f"{folder}/result.json").read())["stages"]
@@ -64,3 +64,30 @@ def test_bad_case_b_settings_name_their_key():
         cmd.resolve(flags={"wall": "C2S"}, sets=["backfill.grain_shape=star"])
     with pytest.raises(InvalidParameter, match="geometry"):
         cmd.resolve(flags={"wall": "C3S", "geometry": "disk-count"})
+
+
+#: a wall too narrow for its fill: 0.48 m of 0.15 x 0.06 m blocks (8 courses) on a 0.16 m
+#: base, the formwork column 0.4 m above the crest, so the fill can rise to 0.88 m
+NARROW = ["height_m=0.48", "base_width_m=0.16", "block_length_m=0.15", "block_height_m=0.06",
+          "backfill.width_min_m=0.02", "backfill.width_max_m=0.032", "backfill.container_m=0.6",
+          "backfill.formwork_m=0.4", "backfill.hold_depth_m=none"]
+
+
+def test_too_narrow_wall_fails_by_its_limit_equilibrium_height(tmp_path):
+    """Reference: the rigid-block limit equilibrium of the section with Coulomb's thrust
+    (analytic.drystone.backfill_limit_equilibrium: gamma_s 14.9, phi 37.7, beta 32, delta
+    the calibrated global interface angle) puts the critical backfill height of this wall
+    below the 0.88 m the fill can reach (about 0.6 m, toppling). Coulomb's active thrust is
+    the least a fill can put on a wall, and the DEM fill's peak angle (36.7 deg,
+    gravel_calibration.md) is below the 37.7 used there, so the DEM wall must fail no
+    later than the stage that passes that height; it carries the first layer (a sixth of
+    that height). Measured (hexagons, local 50 / 45 deg): 0.50 m, sliding of the upper
+    courses, on seeds 1 and 2; limit equilibrium 0.61 m toppling (delta 30.4); 3.6 s CPU."""
+    cmd = get("drystone").commands[0]
+    case = cmd.resolve(flags={"wall": "C2S"}, sets=NARROW)
+    res, _ = cmd.run(case, cmd.run_options(out=str(tmp_path)))
+    le = res["limit_equilibrium"]["critical_height_m"]
+    assert le < 0.48 + 0.4 - 0.1            # the fill can pass it by a whole layer
+    assert res["critical_height_m"] is not None, [r["backfill_height_m"] for r in res["stages"]]
+    assert case.backfill.layer_m < res["critical_height_m"] <= le + case.backfill.layer_m
+    assert res["mode"] in ("sliding", "toppling")

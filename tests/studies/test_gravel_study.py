@@ -6,7 +6,9 @@ S-OET's representative stress); a mobilised peak is never below the critical sta
 Coulomb on a flat face bounds the global interface angle by the local one,
 tan(global) = T / N <= mu (every grain-face contact obeys |t_i| <= mu n_i); the face
 carries the applied normal load sigma_n L plus the weights (statics, within 1 %);
-``choose`` interpolates linearly where two tests bracket the target.
+``choose`` interpolates linearly where two tests bracket the target; ``choose_both``
+minimises the sum of the squared misfits to the peak and critical-state targets (its
+minimum by hand below).
 """
 
 import math
@@ -16,7 +18,7 @@ import pytest
 
 from dem2d.gravel import Gravel
 from studies import get
-from studies.gravel.calibrate import choose
+from studies.gravel.calibrate import choose, choose_both
 
 
 @pytest.fixture(scope="module")
@@ -58,3 +60,13 @@ def test_choose_interpolates_between_bracketing_tests():
     assert choose([45, 60, 75], [33.8, 36.3, 37.9], 37.7)["value_deg"] == round(60 + 15 * 1.4 / 1.6, 1)
     far = choose([25, 45], [21.0, 31.0], 37.7)
     assert far["reached"] is False and far["value_deg"] == 45 and math.isclose(far["closest_global_deg"], 31.0)
+
+
+def test_choose_both_minimises_the_two_misfits():
+    """Peaks 36, 37, 38 and critical states 32, 32, 30 at 40, 50, 60 deg, targets 37.7 / 32:
+    on [50, 60] with t = x - 50 the misfit is (0.1 t - 0.7)^2 + (0.2 t)^2, least at
+    t = 0.14 / 0.10 = 1.4 (on [40, 50] the least is 0.49 at 50, above 0.392 at 51.4)."""
+    c = choose_both([40, 50, 60], [36.0, 37.0, 38.0], [32.0, 32.0, 30.0], 37.7, 32.0)
+    assert c["value_deg"] == pytest.approx(51.4)
+    assert c["phi_peak_deg"] == pytest.approx(37.14) and c["phi_cs_deg"] == pytest.approx(31.72)
+    assert c["reached"] is False            # 0.56 deg from the peak target
