@@ -12,8 +12,8 @@ assumption: ../shared/reference/seismic-sheetpile.md, reference.json.
 case's contact parameters; ``validate`` runs the paper's frequencies and writes
 docs/validation/seismic.{md,json}.
 
-Not done yet (issue 26): the shear-strain field (Fig. 7), K against rotation (Fig. 4) as
-a figure, how the results move between two resolutions.
+Not done yet (issue 26): how the results move between two resolutions and across the
+assumed rolling resistance.
 """
 
 from __future__ import annotations
