@@ -436,15 +436,7 @@ def rolling_torques(sph, prs, prm, dt, pax, plen, mtab):
             pp = prm if mtab is None else pair_params(mtab, mat[i], mat[j])
             if pp.mu_roll <= 0.0:
                 continue
-            dx = x[j, 0] - x[i, 0]
-            dy = x[j, 1] - x[i, 1]
-            dz = x[j, 2] - x[i, 2]
-            if pax == 0:
-                dx = _min_image(dx, plen)
-            elif pax == 1:
-                dy = _min_image(dy, plen)
-            elif pax == 2:
-                dz = _min_image(dz, plen)
+            dx, dy, dz = separation(x, i, j, pax, plen)
             d = math.sqrt(dx * dx + dy * dy + dz * dz)
             rs = r[i] + r[j]
             kt_ = tpos[k]
