@@ -69,13 +69,13 @@ def _text(r: dict) -> str:
 
 
 COMPARE = Command(
-    verb="compare", help="Sizkow & El Shamy's sheet pile at 50 g, one shaking frequency (3D, long; not yet validated)",
+    verb="compare", help="Sizkow & El Shamy's sheet pile at 50 g, one shaking frequency (3D, long; five frequencies in docs/validation/seismic.md)",
     description="A cantilever sheet pile of bonded balls retaining 9 m of dry sand over 6 m (prototype), "
                 "a 50 g model with free-field lateral boundaries, the base shaken by a 0.1 g sinusoid "
                 "(3 s ramp, 4 s hold, 1 s decay). Results in prototype units with Mononobe-Okabe. "
                 "The grains carry a rolling resistance (mu_r 0.25, an assumption calibrated so the deposit's "
                 "triaxial gives phi ~31 deg as the paper's sand; friction alone gives ~18 and the wall fails). "
-                "The coarse resolution (~15k spheres) took 21 min of one core at 5 Hz (static state 3 min, "
+                "The coarse resolution (~16k spheres) takes 23-24 min of one core a frequency (static state 3 min, "
                 "cached for other frequencies); medium ~1.5 h, paper ~31 h (estimated). "
                 "Example: wallsim compare seismic --freq 5 --resolution coarse",
     default_case=_default_case, run=_compare, text=_text, busy_note=True,
