@@ -263,6 +263,36 @@ class BackfilledWall:
         return sum(0.5 * b.mass * b.velocity.length_squared + 0.5 * b.moment * b.angular_velocity ** 2
                    for b in self.bodies if b.body_type == pymunk.Body.DYNAMIC)
 
+    def angles(self) -> np.ndarray:
+        return np.array([b.angle for b in self.bodies])
+
+    def force_chains(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every touching pair of grains and blocks, and each with the container or the
+        foundation: segments (m,2,2) from one body's centre to the other's (to the contact
+        point for a static body) [m], and the contact force magnitude (m,) [N/m] (last
+        step's impulse / dt). The force chains of the fill and of the wall in one set."""
+        dt = self.wall.solver.dt
+        segs, forces, seen = [], [], set()
+
+        def visit(arb):
+            a, b = arb.shapes
+            key = (id(a), id(b)) if id(a) < id(b) else (id(b), id(a))
+            if key in seen:
+                return
+            seen.add(key)
+            pts = arb.contact_point_set.points
+            if not pts:
+                return
+            j = arb.total_impulse
+            ends = [tuple(s.body.position) if s.body.body_type == pymunk.Body.DYNAMIC else tuple(pts[0].point_a)
+                    for s in (a, b)]
+            segs.append(ends)
+            forces.append(math.hypot(j.x, j.y) / dt)
+        for body in self.wall.bodies + self.bodies:
+            if body.body_type == pymunk.Body.DYNAMIC:
+                body.each_arbiter(visit)
+        return np.array(segs, float).reshape(-1, 2, 2), np.array(forces, float)
+
     def surface_at(self, x_edges: np.ndarray) -> np.ndarray:
         """Highest grain top in each column between ``x_edges`` (the floor where empty) [m]."""
         top = np.full(len(x_edges) - 1, self.y_floor)

@@ -186,6 +186,34 @@ def _clump_gyration(aspect_ratio: float) -> float:
     return i / m
 
 
+def grain_outline(gravel: Gravel, points: int = 12) -> np.ndarray:
+    """Outline of a grain of width 1 in its body frame (k,2) [m per m of width], to be
+    scaled by each grain's width: the hexagon's core vertices pushed out by the rounding
+    radius along the corner bisectors, the capsule as its stadium, the clump3 as the hull
+    of its end circles (a stadium as well). For drawing, not for physics."""
+    ar = gravel.aspect_ratio
+    if gravel.shape == "hexagon":
+        v = hexagon_vertices(1.0, ar)
+        mid = (np.roll(v, 1, axis=0) + np.roll(v, -1, axis=0)) / 2
+        out = v - mid
+        norm = np.hypot(*out.T)[:, None]
+        return v + HEX_ROUND * out / np.where(norm > 0, norm, 1.0)
+    half = (ar - 1.0) / 2          # end-circle centres at +-half, radius 1/2
+    t = np.linspace(-math.pi / 2, math.pi / 2, points // 2)
+    right = np.c_[half + 0.5 * np.cos(t), 0.5 * np.sin(t)]
+    return np.vstack([right, -right])
+
+
+def grain_outlines(positions: np.ndarray, angles: np.ndarray, widths: np.ndarray, gravel: Gravel) -> np.ndarray:
+    """Every grain's outline in world coordinates (n,k,2) [m] (``grain_outline``)."""
+    base = grain_outline(gravel)
+    c, s = np.cos(angles), np.sin(angles)
+    local = widths[:, None, None] * base[None]
+    x = local[..., 0] * c[:, None] - local[..., 1] * s[:, None]
+    y = local[..., 0] * s[:, None] + local[..., 1] * c[:, None]
+    return np.stack([x, y], axis=-1) + positions[:, None, :]
+
+
 def add_grains(space: pymunk.Space, centres: np.ndarray, angles: np.ndarray, widths: np.ndarray,
                gravel: Gravel, friction: float) -> list[pymunk.Body]:
     """``add_capsules`` for any ``gravel.shape``: one dynamic body per grain, mass from

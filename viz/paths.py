@@ -7,6 +7,9 @@ World (2D or 3D scene, in metres)::
                            coloured by displacement since the first frame
     world/water            LineStrips2D: the water surface on the inner face (dry-stone walls)
     world/joint_forces     Points2D: contact points of the block joints, radius ~ normal force
+    world/grains           LineStrips2D: outlines of the gravel grains (dry-stone case B), held
+                           ones darker
+    world/block_velocity   Arrows2D: block velocities at failure (dry-stone case B)
     world/wall             LineStrips: wall panels, coloured by normal stress
     world/force_chains     LineStrips: contacts above the mean normal force, radius ~ force
     world/displacement     Arrows: particle displacement since the first frame (subsampled)
@@ -29,6 +32,8 @@ Time series::
     metrics/kinetic_energy_J
     metrics/crest_displacement_mm   outward crest movement of a dry-stone wall
     metrics/water_height_m          water height on its inner face
+    metrics/backfill_height_m       fill height at the inner face (dry-stone case B)
+    metrics/thrust_kN               also the fill's horizontal thrust on a dry-stone wall
 
     case                   TextDocument: case description and resolved config (static)
 
@@ -42,6 +47,8 @@ PARTICLES = "world/particles"
 BLOCKS = "world/blocks"
 WATER = "world/water"
 JOINT_FORCES = "world/joint_forces"
+GRAINS = "world/grains"
+BLOCK_VELOCITY = "world/block_velocity"
 WALL = "world/wall"
 FORCE_CHAINS = "world/force_chains"
 DISPLACEMENT = "world/displacement"

@@ -97,6 +97,17 @@ def khosravi_blueprint() -> rrb.Blueprint:
     return default_blueprint(2, scene_name="disks, pressure cells and force chains")
 
 
+def drystone_backfill_blueprint() -> rrb.Blueprint:
+    """Dry-stone case B: blocks, grains, force chains, velocities at failure; the fill's
+    height, thrust and the crest movement."""
+    scene = rrb.Spatial2DView(origin=P.WORLD, name="blocks (colour: displacement), grains, force chains")
+    right = rrb.Vertical(rrb.TimeSeriesView(origin=f"{P.METRICS}/backfill_height_m", name="backfill height m"),
+                         rrb.TimeSeriesView(origin=P.METRIC_THRUST, name="fill thrust kN/m"),
+                         rrb.TimeSeriesView(origin=f"{P.METRICS}/crest_displacement_mm", name="crest displacement mm"),
+                         rrb.TextDocumentView(origin=P.CASE, name="case"))
+    return rrb.Blueprint(rrb.Horizontal(scene, right, column_shares=[3, 2]), collapse_panels=True)
+
+
 def drystone_blueprint() -> rrb.Blueprint:
     """Dry-stone walls: blocks, water and joint forces; crest movement and water height."""
     scene = rrb.Spatial2DView(origin=P.WORLD, name="blocks (colour: displacement), water, joint forces")
@@ -297,6 +308,46 @@ class Recorder:
             radii = (0.03 * f / f.max()).astype(np.float32) if f.max() > 0 else np.full(len(f), 0.002, np.float32)
             self.rec.log(P.JOINT_FORCES, rr.Points2D(np.asarray(contact_points, np.float32), radii=radii,
                                                      colors=[[200, 30, 30]]))
+        self._logged += 1
+        if self._logged % self.flush_every == 0:
+            self.rec.flush()
+
+    @_timed
+    def log_backfilled_wall(self, step: int, time: float, outlines: list, displacement: np.ndarray, *,
+                            grain_outlines: np.ndarray, grain_held: np.ndarray, chain_segments: np.ndarray,
+                            chain_forces: np.ndarray, block_centres: np.ndarray | None = None,
+                            block_velocities: np.ndarray | None = None,
+                            metrics: dict[str, float] | None = None) -> None:
+        """A block wall under a granular fill (dry-stone case B): block outlines coloured
+        by displacement (as ``log_block_wall``), grain outlines (n,k,2) (free grey, held
+        darker), force chains of fill and wall together (contacts above the mean force,
+        radius ~ force, as ``_log_chains``), and block velocity arrows [m/s, drawn x 0.5 s]
+        when given (at failure)."""
+        if self.rec is None:
+            return
+        self._remember(step, time, None, metrics)
+        self._set_time(step, time, None)
+        d = np.asarray(displacement, float)
+        colours = _viridis(d, float(d.max()) if len(d) and d.max() > 0 else 1.0)
+        self.rec.log(P.BLOCKS, rr.LineStrips2D([np.vstack([b, b[:1]]).astype(np.float32) for b in outlines],
+                                               colors=colours, radii=[0.004]))
+        g = np.asarray(grain_outlines, np.float32)
+        if len(g):
+            closed = np.concatenate([g, g[:, :1]], axis=1)
+            held = np.asarray(grain_held, bool)
+            gcol = np.where(held[:, None], np.array([[90, 90, 90]]), np.array([[170, 170, 170]])).astype(np.uint8)
+            self.rec.log(P.GRAINS, rr.LineStrips2D(list(closed), colors=gcol, radii=[0.0008]))
+        f = np.asarray(chain_forces, float)
+        strong = f > f.mean() if len(f) else np.zeros(0, bool)
+        if strong.any():
+            fs = f[strong]
+            self.rec.log(P.FORCE_CHAINS, rr.LineStrips2D(list(np.asarray(chain_segments, np.float32)[strong]),
+                                                         radii=(0.006 * fs / fs.max()).astype(np.float32),
+                                                         colors=[[200, 30, 30]]))
+        if block_velocities is not None:
+            self.rec.log(P.BLOCK_VELOCITY, rr.Arrows2D(origins=np.asarray(block_centres, np.float32),
+                                                       vectors=0.5 * np.asarray(block_velocities, np.float32),
+                                                       colors=[[30, 120, 220]], radii=[0.003]))
         self._logged += 1
         if self._logged % self.flush_every == 0:
             self.rec.flush()

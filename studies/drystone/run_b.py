@@ -9,6 +9,7 @@ import math
 import time
 from pathlib import Path
 
+import numpy as np
 import pymunk
 
 from .case import DrystoneCase, assumptions, masonry, mode_word, percent_error, reference, staircase_m
@@ -171,14 +172,55 @@ def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None
                             notes=result["assumptions"])
 
 
-def compare_backfill(case: DrystoneCase, *, root: Path, progress=None) -> tuple[dict, Path]:
-    """``wallsim compare drystone --wall C2S|C3S|C4L``: one wall filled to failure."""
-    from ..runner import finish, open_run_folder
+def _backfill_frame(rec, bw, reading: dict | None = None, *, at_failure: bool = False) -> None:
+    """One recording frame: blocks by displacement since the wall was built, grains,
+    force chains, the block velocities ``at_failure``; the stage's fill height, thrust
+    (from its ``reading``) and crest movement."""
+    from dem2d.gravel import grain_outlines
+
+    w, x0 = bw.wall, bw.x_start
+    held = {id(b) for b in bw.held}
+    segs, forces = bw.force_chains()
+    metrics = {"backfill_height_m": bw.backfill_height_m, "crest_displacement_mm": 1e3 * w.crest_displacement(x0)}
+    if reading is not None:
+        metrics["thrust_kN"] = reading["thrust_N_m"] / 1e3
+    rec.log_backfilled_wall(w.steps, w.time, w.world_outlines(), np.hypot(*(w.positions() - x0).T),
+                            grain_outlines=grain_outlines(bw.positions(), bw.angles(), bw.widths, bw.gravel)
+                            if bw.bodies else np.zeros((0, 1, 2)),
+                            grain_held=np.array([id(b) in held for b in bw.bodies], bool),
+                            chain_segments=segs, chain_forces=forces,
+                            block_centres=w.positions() if at_failure else None,
+                            block_velocities=w.velocities() if at_failure else None, metrics=metrics)
+
+
+def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, record: bool = True,
+                     spawn: bool = False, progress=None) -> tuple[dict, Path]:
+    """``wallsim compare drystone --wall C2S|C3S|C4L``: one wall filled to failure, its run
+    folder written (and the recording: a frame per stage, the last with block velocities)."""
+    from viz.recorder import drystone_backfill_blueprint
+
+    from ..runner import finish, open_recording, open_run_folder
 
     folder = open_run_folder("drystone", case, root, seed=case.backfill.seed)
-    hook = None if progress is None else (lambda bw, r: progress(r["backfill_height_m"], r["crest_displacement_m"], r))
-    run = run_backfill(case, on_stage=hook)
+    path = Path(rrd) if rrd else (folder.file("recording.rrd") if record else None)
+    rec = open_recording(path, study="drystone", recording_id=f"drystone-{case.wall}-seed{case.backfill.seed}", dim=2,
+                         blueprint=drystone_backfill_blueprint(), spawn=spawn)
+    rec.log_case("\n".join([f"# {case.wall} under gravel backfill, seed {case.backfill.seed}", "", RIGID_NOTE, "",
+                            "Assumed:", *[f"- {a}" for a in assumptions(case) + backfill_assumptions(case)]]))
+
+    def on_stage(bw, r):
+        if rec.rec is not None:
+            _backfill_frame(rec, bw, r)
+        if progress is not None:
+            progress(r["backfill_height_m"], r["crest_displacement_m"], r)
+
+    run = run_backfill(case, on_stage=on_stage)
+    if rec.rec is not None and run["stages"]:
+        _backfill_frame(rec, run["bw"], run["stages"][-1], at_failure=True)
+    rec.close()
     result = backfill_result(case, run) | {"run_folder": str(folder.path)}
+    if path is not None:
+        result["recording"] = str(path)
     write_outputs_b(folder, case, result, run)
     finish(folder, result, particles=result["particles"], seed=case.backfill.seed, steps=run["speed"]["steps"],
            dt_s=case.dt, iterations=case.backfill.iterations, local_values=result["local_values"],
