@@ -60,7 +60,8 @@ def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
             bar.update(task, completed=100 * hb / top,
                        status=f"H_b {hb:.2f} m, crest {crest * 1e3:.2f} mm, {r['grains']} grains ({r['held']} held), "
                               f"{r['steps']} steps, stage CPU {sum(r.get(f'cpu_{k}_s', 0.0) for k in _PHASES):.0f} s")
-        result, folder = compare_backfill(case, root=Path(opts.out), progress=tick)
+        result, folder = compare_backfill(case, root=Path(opts.out), rrd=opts.rrd if isinstance(opts.rrd, str) else None,
+                                          record=not opts.no_rrd, spawn=opts.spawn, progress=tick)
     return result, closing_line(result, None, folder)
 
 
@@ -104,13 +105,24 @@ def _compare_text(r: dict) -> str:
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     import sys
 
+    from analytic.errors import InvalidParameter
+
     from ..options import writable_folder
     from .validate import validate_drystone
+    from .validate_b import validate_case_b
+    own = WALLS_B if opts.case == "B" else WALLS
+    walls = opts.walls or list(own)
+    if any(w not in own for w in walls):
+        raise InvalidParameter("walls", ",".join(walls), f"walls of case {opts.case}: " + ", ".join(own))
     writable_folder("docs", opts.docs)
     writable_folder("docs", str(Path(opts.docs) / "drystone"))
-    rep = validate_drystone(case, out_dir=Path(opts.docs), walls=opts.walls, band=opts.band,
-                            convergence=not opts.no_convergence,
-                            log=None if opts.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True)))
+    log = None if opts.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
+    if opts.case == "B":
+        rep = validate_case_b(case, out_dir=Path(opts.docs), root=Path(opts.out), walls=walls, seeds=opts.backfill_seeds,
+                              log=log)
+    else:
+        rep = validate_drystone(case, out_dir=Path(opts.docs), walls=walls, band=opts.band,
+                                convergence=not opts.no_convergence, log=log)
     return rep, f"report: {Path(opts.docs) / 'drystone.md'}"
 
 
@@ -118,12 +130,23 @@ def _walls(text: str) -> list[str]:
     from analytic.errors import InvalidParameter
     words = [w.strip() for w in text.split(",") if w.strip()]
     for w in words or [text]:
-        if w not in WALLS:
-            raise InvalidParameter("walls", w, " | ".join(WALLS))
+        if w not in WALLS + WALLS_B:
+            raise InvalidParameter("walls", w, " | ".join(WALLS + WALLS_B))
     if len(set(words)) < len(words):
-        raise InvalidParameter("walls", text, "a comma list of distinct walls of " + ", ".join(WALLS),
+        raise InvalidParameter("walls", text, "a comma list of distinct walls of " + ", ".join(WALLS + WALLS_B),
                                "a wall is named twice")
     return words
+
+
+def _seeds(text: str) -> tuple[int, ...]:
+    from analytic.errors import InvalidParameter
+    try:
+        seeds = tuple(int(w) for w in text.split(",") if w.strip())
+    except ValueError:
+        seeds = ()
+    if not seeds or min(seeds) < 0 or len(set(seeds)) < len(seeds):
+        raise InvalidParameter("backfill-seeds", text, "a comma list of distinct integers >= 0")
+    return seeds
 
 
 _CASE_OPTIONS = (
@@ -152,16 +175,24 @@ COMPARE = Command(
              *_CASE_OPTIONS, *RECORDING[:3]))
 
 VALIDATE = Command(
-    verb="validate", help="case A: the five walls, solver convergence and the bands (minutes)",
-    description="Every wall at the default settings, again with dt / 2 and twice the iterations, and the band "
-                "of critical heights over both geometries, gamma_m 18-22 kN/m3 and alpha 0-8.5 deg; writes "
-                "docs/validation/drystone.{md,json} and figures.",
+    verb="validate", help="case A: the five walls, convergence and bands (minutes); case B: three walls x two "
+                          "seeds under gravel (about 4 h of one core)",
+    description="Case A: every wall at the default settings, again with dt / 2 and twice the iterations, and the "
+                "band of critical heights over both geometries, gamma_m 18-22 kN/m3 and alpha 0-8.5 deg. Case B: "
+                "C2S, C3S and C4L filled to failure on seeds 1 and 2 (35-40 min of one core each; a finished run "
+                "folder of the same resolved case under --out is read instead of run again). Writes "
+                "docs/validation/drystone.{md,json} (the other case kept) and figures. "
+                "Example: wallsim validate drystone --case B --walls C3S --seeds 1",
     default_case=_default_case, run=_validate, text=lambda rep: None, seed_key=None,
-    options=(Option("--case", "A: water (Villemus's walls) (A)", choices=("A",), default="A"),
-             Option("--walls", "comma list of V1L,V2L,V3L,V4L,V5S (all)", parse=_walls, default=list(WALLS)),
-             Option("--band", "dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
+    options=(Option("--case", "A: water (Villemus's walls); B: gravel backfill (Colas's walls) (A)",
+                    choices=("A", "B"), default="A"),
+             Option("--walls", "comma list of the case's walls: V1L,V2L,V3L,V4L,V5S or C2S,C3S,C4L (all)",
+                    parse=_walls, default=None),
+             Option("--backfill-seeds", "case B: comma list of backfill seeds, the realisations (1,2)", parse=_seeds,
+                    default=(1, 2)),
+             Option("--band", "case A: dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
                     choices=("dem", "le"), default="dem"),
-             Option("--no-convergence", "skip the dt / 2, 2 x iterations repeat", switch=True),
+             Option("--no-convergence", "case A: skip the dt / 2, 2 x iterations repeat", switch=True),
              *_CASE_OPTIONS[5:],
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs"))))

@@ -166,7 +166,112 @@ def timing(rep: dict) -> dict:
             "band_wall_s": band_w, "band_cpu_s": band_c}
 
 
+def case_b_table(walls: dict) -> list[str]:
+    rows = ["| wall | seed | measured H_b (m), mode | DEM H_b (m), mode, level (m) | error | paper's DEM (m) | "
+            "limit equilibrium (m), mode | grains (held) | steps | CPU (s) | wall (s) |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for w, seeds in walls.items():
+        for seed, e in seeds.items():
+            le, p = e["limit_equilibrium"], e["particles"]
+            rows.append(f"| {w} | {seed} | {e['measured_height_m']:.2f} {e['measured_mode']} | "
+                        f"{_f(e['critical_height_m'], '.2f', 'stood')} {e['mode'] or ''}, "
+                        f"{_f(e['mechanism_level_m'], '.2f', '-')} | {_f(e['error_percent'], '+.1f', '-')} % | "
+                        f"{', '.join(f'{h:.2f}' for h in e['paper_dem_heights_m'])} | "
+                        f"{le['critical_height_m']:.2f} {le['mode']} | {p['grains']:,} ({p['held']:,}) | "
+                        f"{e['steps']:,} | {e['cpu_time_s']:,.0f} | {e['wall_time_s']:,.0f} |")
+    return rows
+
+
+def case_b_checks(walls: dict) -> list[dict]:
+    out = []
+    for w, seeds in walls.items():
+        for seed, e in seeds.items():
+            out.append(check(f"{w} seed {seed}: DEM critical height within {ACCURACY_LIMIT_PERCENT:g} % of measured",
+                             f"{_f(e['critical_height_m'], '.2f', 'stood')} m vs {e['measured_height_m']:.2f} m "
+                             f"({_f(e['error_percent'], '+.1f', '-')} %)", e["within_10_percent"]))
+            out.append(check(f"{w} seed {seed}: DEM mode = measured", f"{e['mode']} vs {e['measured_mode']}",
+                             e["mode_matches"]))
+    return out
+
+
+def case_b_speed(walls: dict) -> list[str]:
+    """Steps and body-steps per CPU second, and where the CPU went, per run."""
+    rows = ["| wall | seed | steps / CPU s | body-steps / CPU s | build | drop | place | settle | read |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    for w, seeds in walls.items():
+        for seed, e in seeds.items():
+            by, cpu = e["cpu_by_phase_s"], e["cpu_time_s"]
+            rows.append(f"| {w} | {seed} | {e['steps_per_cpu_s']:.1f} | {e['body_steps_per_cpu_s'] / 1e6:.2f} M | " +
+                        " | ".join(f"{100 * by.get(k, 0.0) / cpu:.0f} %" for k in
+                                   ("build", "drop", "place", "settle", "read")) + " |")
+    return rows
+
+
+def case_b_lines(b: dict) -> list[str]:
+    """The case-B section of drystone.md (``validate_b.validate_case_b``)."""
+    walls, st, lv = b["walls"], b["settings"], b["local_values"]
+    runs = [e for seeds in walls.values() for e in seeds.values()]
+    gits = sorted({e["git"] for e in runs if e.get("git")})
+    recordings = [e["recording"] for e in runs if e.get("recording")]
+    return ["## Case B: Colas's walls under gravel backfill", "",
+            f"Command: `wallsim validate drystone --case B`; runs at git {', '.join(gits)}; report {b['created']} "
+            f"(git {b['command_git']}). Paper: Oetomo et al., Table 4 (measured after Colas et al.; the paper's "
+            "DEM, two realisations per wall).", "",
+            f"Engine `dem2d.backfill` over `dem2d.blocks`: blocks 0.33 x 0.12 m, first course free on the "
+            f"foundation; gravel of {st['grain_shape']} grains {1e3 * st['width_m'][0]:g}-{1e3 * st['width_m'][1]:g} mm "
+            f"wide (aspect ratio 2.5) placed in {st['layer_m']:g} m stages, the slope re-cut to {st['slope_deg']:g} "
+            f"deg before each, a {st['container_m']:g} m container, the fill continued {st['formwork_m']:g} m above "
+            f"the crest against a formwork column ({st['formwork']}); " +
+            (f"grains {st['hold_depth_m']:g} m below the surface and {st['hold_distance_m']:g} m from the wall held "
+             "static; " if st["hold_depth_m"] is not None else "no grain held static; ") +
+            f"dt {st['dt_s']:g} s, {st['iterations']} sweeps. "
+            "Failure: the wall's kinetic energy above 0.1 J/m on 10 successive readings (the paper's) or the crest "
+            f"running away. Seeds {', '.join(map(str, b['seeds']))}: the backfill's two realisations. "
+            f"**{b['note']}.**", "",
+            f"Local frictions: ours grain {lv['ours']['grain_friction_deg']:g}, interface "
+            f"{lv['ours']['interface_friction_deg']:g}, placement {lv['ours']['placement_friction_deg']:g} deg "
+            f"(calibrated: [gravel_calibration.md](gravel_calibration.md)); the paper's "
+            f"{lv['paper']['grain_friction_deg']:g} / {lv['paper']['interface_friction_deg']:g} / "
+            f"{lv['paper']['placement_friction_deg']:g} deg for PFC2D's soft clumps.", "",
+            "H_b: backfill height at the inner face when the wall failed (the stage that failed it; stages are "
+            f"{st['layer_m']:g} m, so the height is resolved to one layer). Level: height of the bed joint or toe "
+            "the mechanism forms on.", "",
+            *case_b_table(walls), "",
+            "#" + checks_markdown(case_b_checks(walls), "Validation targets, case B")[0],
+            *checks_markdown(case_b_checks(walls))[1:], "",
+            "### Speed: where the CPU goes", "",
+            f"{len(runs)} runs: {sum(e['cpu_time_s'] for e in runs):,.0f} s CPU, "
+            f"{sum(e['wall_time_s'] for e in runs):,.0f} s wall (wall time depends on what else ran on the two cores: "
+            "each run's load average is in drystone.json; CPU time is the cost).", "", *case_b_speed(walls), "",
+            "place: settling of each new layer at the placement friction; settle: after the friction is "
+            "restored and the slope re-cut; the paper's runs took about 17 days per wall.", "",
+            "### Assumed (every run repeats its own list)", "", *[f"- {a}" for a in b["assumptions"]], "",
+            "### Figures", "",
+            *[f"- {w} seed {seed}: [thrust vs backfill height, with Coulomb](drystone/{w}_seed{seed}_thrust.png), "
+              f"[mechanism at failure](drystone/{w}_seed{seed}_mechanism.png)"
+              for w, seeds in walls.items() for seed in seeds], "",
+            *([f"Rerun recordings (blocks, grains, force chains, block velocities at failure; not committed): "
+               + ", ".join(f"`{r}`" for r in recordings), ""] if recordings else [])]
+
+
 def write_report(rep: dict, out_dir: Path) -> Path:
+    """drystone.md: case A (``rep["walls"]``) and, when validated, case B (``rep["case_b"]``)."""
+    lines = case_a_lines(rep) if "walls" in rep else \
+        ["# Dry-stone retaining walls", "", "Case A not validated yet: `wallsim validate drystone --case A`.", ""]
+    discussion = out_dir / "drystone_discussion.md"
+    if "walls" in rep and discussion.is_file():        # the discussion is case A's
+        lines += [discussion.read_text().rstrip(), ""]
+    if "case_b" in rep:
+        lines[0] = ("# Dry-stone retaining walls (Oetomo et al.): case A, Villemus's walls loaded by water; "
+                    "case B, Colas's walls under gravel backfill")
+        lines[2:2] = ["## Case A: Villemus's walls loaded by water", ""]
+        lines += case_b_lines(rep["case_b"])
+    path = out_dir / "drystone.md"
+    atomic_write(path, "\n".join(lines).encode())
+    return path
+
+
+def case_a_lines(rep: dict) -> list[str]:
     walls = rep["walls"]
     t = timing(rep)
     rep["timing"] = t
@@ -216,9 +321,4 @@ def write_report(rep: dict, out_dir: Path) -> Path:
              "## Figures", "",
              *[f"- {w}: [history](drystone/{w}_history.png), [mechanism at failure](drystone/{w}_mechanism.png)"
                for w in walls], ""]
-    discussion = out_dir / "drystone_discussion.md"
-    if discussion.is_file():
-        lines += [discussion.read_text().rstrip(), ""]
-    path = out_dir / "drystone.md"
-    atomic_write(path, "\n".join(lines).encode())
-    return path
+    return lines

@@ -180,6 +180,9 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
            "note": RIGID_NOTE, "git": git, "versions": package_versions(),
            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
            "wall_time_s": time.perf_counter() - t0, "cpu_time_s": time.process_time() - c0}
+    old = out_dir / "drystone.json"
+    if old.is_file() and "case_b" in (kept := json.loads(old.read_text())):
+        rep["case_b"] = kept["case_b"]          # validate --case B wrote it; this run is case A only
     from .report import back_fit_band
     for e in rep["walls"].values():
         e["band_back_fit_m"] = back_fit_band(e)

@@ -91,3 +91,60 @@ def test_too_narrow_wall_fails_by_its_limit_equilibrium_height(tmp_path):
     assert res["critical_height_m"] is not None, [r["backfill_height_m"] for r in res["stages"]]
     assert case.backfill.layer_m < res["critical_height_m"] <= le + case.backfill.layer_m
     assert res["mode"] in ("sliding", "toppling")
+
+
+def test_recording_holds_the_grains_blocks_and_failure_velocities(tmp_path):
+    """The case-B recording (issue 24: blocks, grains, force chains, block velocities at
+    failure), on the too-narrow wall: every grain and block of the result is in the last
+    frame, the fill height series ends at the DEM's critical height, and the wall moves at
+    failure (its kinetic energy passed 0.1 J/m, S-OET's criterion, so some block moves)."""
+    import numpy as np
+
+    from viz import paths as P
+    from viz import readback
+    cmd = get("drystone").commands[0]
+    case = cmd.resolve(flags={"wall": "C2S"}, sets=NARROW)
+    res, _ = cmd.run(case, cmd.run_options(out=str(tmp_path)))
+    rrd = res["recording"]
+    assert {"/" + P.BLOCKS, "/" + P.GRAINS, "/" + P.FORCE_CHAINS, "/" + P.BLOCK_VELOCITY} <= readback.entity_paths(rrd)
+    _, grains = readback.read_column(rrd, "/" + P.GRAINS, "LineStrips2D:strips")
+    _, blocks = readback.read_column(rrd, "/" + P.BLOCKS, "LineStrips2D:strips")
+    assert len(grains[-1]) == res["particles"]["grains"] and len(blocks[-1]) == res["particles"]["blocks"]
+    _, vel = readback.read_column(rrd, "/" + P.BLOCK_VELOCITY, "Arrows2D:vectors")
+    assert len(vel) == 1 and len(vel[0]) == res["particles"]["blocks"]
+    assert np.abs(np.asarray(vel[0], float)).max() > 1e-3          # 0.5 s x v: a block moving > 2 mm/s
+    _, height = readback.read_scalars(rrd, "/metrics/backfill_height_m")
+    assert height[-1] == pytest.approx(res["critical_height_m"])
+
+
+def test_validate_case_b_writes_both_seeds_keeps_case_a_and_reuses_runs(tmp_path):
+    """``validate drystone --case B`` at the narrow wall's size (two seeds): drystone.json
+    gains case B in the issue's keys with the measured C2S height (2.30 m, S-OET Table 4),
+    each seed failing no later than the limit-equilibrium stage (as above); case A, already
+    there, is kept; a second call reads the finished runs instead of running them."""
+    import shutil
+    from pathlib import Path
+
+    from studies.drystone.validate_b import validate_case_b
+    docs = tmp_path / "docs"
+    docs.mkdir()
+    shutil.copyfile(Path(__file__).resolve().parents[2] / "docs/validation/drystone.json", docs / "drystone.json")
+    case_a = json.loads((docs / "drystone.json").read_text())["walls"]
+    cmd = get("drystone").commands[0]
+    case = cmd.resolve(flags={"wall": "C2S"}, sets=NARROW)
+    rep = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 2))
+    saved = json.loads((docs / "drystone.json").read_text())
+    assert saved["walls"] == case_a
+    for seed in ("1", "2"):
+        e = saved["case_b"]["walls"]["C2S"][seed]
+        assert {"critical_height_m", "mode", "measured_height_m", "measured_mode", "wall_time_s"} <= set(e)
+        assert e["measured_height_m"] == 2.30 and e["seed"] == int(seed)
+        assert case.backfill.layer_m < e["critical_height_m"] <= e["limit_equilibrium"]["critical_height_m"] + \
+            case.backfill.layer_m
+    text = (docs / "drystone.md").read_text()
+    assert "## Case A" in text and "## Case B" in text and "| C2S | 2 |" in text
+    folders = sorted((tmp_path / "runs" / "drystone").iterdir())
+    assert len(folders) == 2
+    again = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 2))
+    assert sorted((tmp_path / "runs" / "drystone").iterdir()) == folders
+    assert again["case_b"]["walls"] == rep["case_b"]["walls"]

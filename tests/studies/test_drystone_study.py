@@ -49,7 +49,9 @@ BAD = [
     ["compare", "drystone", "--set", "wall=V6L"],
     ["compare", "drystone", "--geometry", "guess"],
     ["validate", "drystone", "--walls", "V1L,V7"],
-    ["validate", "drystone", "--case", "B"],
+    ["validate", "drystone", "--case", "C"],
+    ["validate", "drystone", "--case", "B", "--walls", "V1L"],      # a case-A wall
+    ["validate", "drystone", "--case", "B", "--backfill-seeds", "1,1"],
     ["calibrate", "tilt", "--friction", "95"],
     ["calibrate", "tilt", "--friction", "abc"],
 ]

@@ -1,0 +1,136 @@
+"""``wallsim validate drystone --case B``: Colas's three walls under gravel, each on two
+backfill realisations (seeds 1 and 2, as the paper's two), to failure at full size ->
+case B of docs/validation/drystone.{json,md} and drystone/ figures.
+
+A wall and seed whose finished run folder (result.json) under ``--out`` was made from
+the same resolved case (config.toml equal field for field) is read, not run again: a
+wall costs 35-40 min of one core, and a validation interrupted after three walls keeps
+them."""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+import time
+import tomllib
+from dataclasses import replace
+from pathlib import Path
+
+import tomli_w
+
+from ..runfolder import _toml_ready, git_revision, package_versions, to_plain
+from ..store import atomic_write
+from .case import WALLS_B, DrystoneCase
+from .run import RIGID_NOTE
+from .validate import ACCURACY_LIMIT_PERCENT
+
+SEEDS = (1, 2)
+
+
+def _config(case: DrystoneCase) -> dict:
+    """The case as its run folder's config.toml reads back."""
+    return tomllib.loads(tomli_w.dumps(_toml_ready(to_plain(case))))
+
+
+def finished_run(case: DrystoneCase, root: Path) -> Path | None:
+    """The newest run folder under ``root``/drystone holding a finished run of exactly
+    ``case`` (same resolved settings, seed included), else None."""
+    want = _config(case)
+    for folder in sorted((root / "drystone").glob("*"), reverse=True):
+        cfg, res = folder / "config.toml", folder / "result.json"
+        if cfg.is_file() and res.is_file():
+            try:
+                if tomllib.loads(cfg.read_text()) == want:
+                    return folder
+            except tomllib.TOMLDecodeError:
+                continue
+    return None
+
+
+def run_wall(case: DrystoneCase, root: Path, log=None) -> tuple[dict, dict, Path]:
+    """(result, manifest, folder) of one wall and seed: read from its finished run folder
+    or run now (``run_b.compare_backfill``, no recording)."""
+    from .run_b import compare_backfill
+    folder = finished_run(case, root)
+    tag = f"{case.wall} seed {case.backfill.seed}"
+    if folder is None:
+        if log:
+            log(f"{tag}: running (35-40 min of one core at full size)")
+        _, folder = compare_backfill(case, root=root, record=False)
+    elif log:
+        log(f"{tag}: finished run found in {folder}")
+    return (json.loads((folder / "result.json").read_text()), json.loads((folder / "manifest.json").read_text()),
+            folder)
+
+
+def entry(result: dict, manifest: dict, folder: Path) -> dict:
+    """One wall and seed in drystone.json's case B (the issue's keys first)."""
+    err = result["error_percent"]
+    ok = err is not None and math.isfinite(err)
+    return {"critical_height_m": result["critical_height_m"], "mode": result["mode"],
+            "measured_height_m": result["measured_height_m"], "measured_mode": result["measured_mode"],
+            "wall_time_s": result["wall_time_s"], "cpu_time_s": result["cpu_time_s"],
+            "error_percent": err if ok else None,
+            "within_10_percent": bool(ok and abs(err) <= ACCURACY_LIMIT_PERCENT),
+            "mode_matches": result["mode"] in result["measured_mode"].split("/"),     # "sliding/toppling": either
+            "mechanism_level_m": result["mechanism_level_m"],
+            "paper_dem_heights_m": result["paper_dem_heights_m"],
+            "limit_equilibrium": result["limit_equilibrium"],
+            "coulomb_delta_deg": result["coulomb"]["delta_deg"],
+            "particles": result["particles"], "stages": len(result["stages"]), "steps": result["speed"]["steps"],
+            "steps_per_cpu_s": result["speed"]["steps_per_cpu_s"],
+            "body_steps_per_cpu_s": result["speed"]["body_steps_per_cpu_s"],
+            "cpu_by_phase_s": {"build": result["speed"]["cpu_build_s"], **result["speed"]["cpu_by_phase_s"]},
+            "seed": result["seed"], "dt_s": result["dt_s"], "iterations": result["iterations"],
+            "git": manifest.get("git"), "versions": manifest.get("versions"),
+            "load_average_1min": manifest.get("load_average_1min"), "run_folder": str(folder),
+            "recording": result.get("recording")}
+
+
+def _figures(folder: Path, fig_dir: Path, wall: str, seed: int) -> None:
+    """The run's thrust and mechanism figures, copied beside the report."""
+    for name in ("thrust", "mechanism"):
+        src = folder / f"{name}.png"
+        if src.is_file():
+            shutil.copyfile(src, fig_dir / f"{wall}_seed{seed}_{name}.png")
+
+
+def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: list[str] = list(WALLS_B),
+                    seeds: tuple[int, ...] = SEEDS, log=None) -> dict:
+    """Every wall in ``walls`` on every seed; writes case B into drystone.json (case A
+    kept as it is) and drystone.md, and the figures into drystone/."""
+    from .report import write_report
+    t0, c0 = time.perf_counter(), time.process_time()
+    git = git_revision()
+    fig_dir = out_dir / "drystone"
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    rows: dict[str, dict[str, dict]] = {}
+    local_values, assumptions = None, []      # assumptions: every run's, each once (sections differ per wall)
+    for w in walls:
+        for seed in seeds:
+            c = replace(case, wall=w, backfill=replace(case.backfill, seed=seed))
+            result, manifest, folder = run_wall(c, root, log)
+            rows.setdefault(w, {})[str(seed)] = entry(result, manifest, folder)
+            local_values = result["local_values"]
+            assumptions += [a for a in result["assumptions"] if a not in assumptions]
+            _figures(folder, fig_dir, w, seed)
+            if log:
+                e = rows[w][str(seed)]
+                log(f"  {w} seed {seed}: DEM {e['critical_height_m']} m {e['mode']} (measured "
+                    f"{e['measured_height_m']} m {e['measured_mode']}), {e['cpu_time_s']:.0f} s CPU")
+    path = out_dir / "drystone.json"
+    rep = json.loads(path.read_text()) if path.is_file() else {"study": "drystone"}
+    b = case.backfill
+    rep["case_b"] = {
+        "walls": rows, "seeds": list(seeds),
+        "settings": {"geometry": case.geometry, "dt_s": case.dt, "iterations": b.iterations,
+                     "grain_shape": b.grain_shape, "width_m": [b.width_min_m, b.width_max_m], "layer_m": b.layer_m,
+                     "slope_deg": b.slope_deg, "container_m": b.container_m, "formwork_m": b.formwork_m,
+                     "formwork": b.formwork, "hold_depth_m": b.hold_depth_m, "hold_distance_m": b.hold_distance_m},
+        "local_values": local_values, "assumptions": assumptions, "note": RIGID_NOTE,
+        "command_git": git, "versions": package_versions(), "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        "command_wall_time_s": time.perf_counter() - t0, "command_cpu_time_s": time.process_time() - c0}
+    write_report(rep, out_dir)
+    atomic_write(path, (json.dumps(to_plain(rep), indent=2) + "\n").encode())
+    return rep
