@@ -165,21 +165,53 @@ def across_frequencies(freqs: dict) -> dict:
 def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: Path | None = None,
                  note: str = "") -> dict:
     """seismic.json and seismic.md from run folders by frequency (prototype Hz -> folder);
-    frequencies of the paper without a folder are written as not run."""
+    frequencies of the paper without a folder are written as not run. At the default
+    resolution the report is rewritten (an earlier ``other_resolutions`` block kept); at
+    another, the runs go into ``other_resolutions[<name>]`` of the existing report and are
+    set beside the default resolution's frequency by frequency (``resolution_changes``)."""
     freqs = {f: (frequency_record(folders[f], case) if f in folders else None) for f in PAPER_FREQUENCIES}
-    rep = {"resolution": case.resolution, "grain_scale": case.scale,
-           "frequencies": {f"{f:g}": ({k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
-                                      if r is not None else "not run") for f, r in freqs.items()},
-           "trends_across_frequencies": across_frequencies(freqs),
-           "git": _started_at(folders), "versions": package_versions(),
-           "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
-                     "../shared/reference/seismic-sheetpile.md"}
+    block = {"resolution": case.resolution, "grain_scale": case.scale,
+             "frequencies": {f"{f:g}": ({k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
+                                        if r is not None else "not run") for f, r in freqs.items()},
+             "git": _started_at(folders)}
+    path = out_dir / "seismic.json"
+    old = json.loads(path.read_text()) if path.is_file() else None
+    default = SeismicCase().resolution
+    if case.resolution == default or old is None or old.get("resolution") != default:
+        rep = block | {"trends_across_frequencies": across_frequencies(freqs), "versions": package_versions(),
+                       "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
+                                 "../shared/reference/seismic-sheetpile.md"}
+        if old is not None and case.resolution == default and "other_resolutions" in old:
+            rep["other_resolutions"] = old["other_resolutions"]
+    else:
+        rep = old
+        rep.setdefault("other_resolutions", {})[case.resolution] = block
+    rep["resolution_changes"] = resolution_changes(rep)
     if material is not None and Path(material).is_file():
         rep["material"] = json.loads(Path(material).read_text())
     out_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / "seismic.json").write_text(json.dumps(rep, indent=1) + "\n")
+    path.write_text(json.dumps(rep, indent=1) + "\n")
     (out_dir / "seismic.md").write_text(report_markdown(rep, note))
     return rep
+
+
+def resolution_changes(rep: dict) -> dict:
+    """Per other resolution and frequency run at both: each KEYS value at the report's
+    resolution, at the other, and the change [%] (wall time left out: it is a cost)."""
+    out = {}
+    for name, other in rep.get("other_resolutions", {}).items():
+        rows = {}
+        for f, r in other["frequencies"].items():
+            base = rep["frequencies"].get(f)
+            if r == "not run" or base in (None, "not run"):
+                continue
+            rows[f] = {k: {rep["resolution"]: base[k], name: r[k],
+                           "change_percent": 100 * (r[k] - base[k]) / abs(base[k]) if base[k] else None}
+                       for k in KEYS if k != "wall_time_s"}
+            rows[f]["particles"] = {rep["resolution"]: base["extra"]["particles"], name: r["extra"]["particles"]}
+            rows[f]["trends_same"] = {t: _held(base["trends"][t]) == _held(r["trends"][t]) for t in base["trends"]}
+        out[name] = rows
+    return out
 
 
 #: what the paper leaves out and the model assumes (reference.json tags each value)
@@ -187,8 +219,8 @@ ASSUMPTIONS = ("Assumed, not from the paper (reference.json, tag A): the contact
                "G 29 GPa, nu 0.15), friction 0.5, contact damping 5 %, the wall-soil friction (= the grains'), "
                "the bonds' stiffness split, and the rolling resistance mu_r 0.25 of the grains, calibrated once "
                "(not per frequency) so that the deposit's triaxial gives the paper's phi ~31 deg: friction alone "
-               "gives ~18-19 deg and the wall then fails statically. How the results move across mu_r and with "
-               "resolution is not measured yet.")
+               "gives ~18-19 deg and the wall then fails statically. How the results move across mu_r is not "
+               "measured.")
 
 
 def material_lines(mat: dict) -> list[str]:
@@ -227,7 +259,9 @@ def report_markdown(rep: dict, note: str = "") -> str:
              f"{rep['resolution']} (grain scale {rep['grain_scale']:g}: grains and wall balls "
              f"{rep['grain_scale']:g} x the paper's, the wall's EI and mass per area the paper's). "
              "Prototype units. The paper gives trends and figures, no tables: every check is a trend.", ""]
-    lines += [ASSUMPTIONS, ""]
+    moved = any(rep.get("resolution_changes", {}).values())
+    lines += [ASSUMPTIONS + (" How they move with resolution: the last section." if moved else
+                             " How they move with resolution is not measured yet."), ""]
     if "material" in rep:
         lines += material_lines(rep["material"]) + [""]
     if note:
@@ -251,4 +285,36 @@ def report_markdown(rep: dict, note: str = "") -> str:
             lines.append(f"| {name} | {f} Hz | {_held(t)} | {t['numbers']} |")
     for name, t in rep["trends_across_frequencies"].items():
         lines.append(f"| {name} | all | {_held(t)} | {t['numbers']} |")
+    lines += resolution_lines(rep)
     return "\n".join(lines) + "\n"
+
+
+def resolution_lines(rep: dict) -> list[str]:
+    """How the results move between the report's resolution and the others run."""
+    lines = []
+    for name, rows in rep.get("resolution_changes", {}).items():
+        other = rep["other_resolutions"][name]
+        lines += ["", f"## How the results move with resolution: {rep['resolution']} (grain scale "
+                      f"{rep['grain_scale']:g}) vs {name} (grain scale {other['grain_scale']:g}, git {other['git']})", ""]
+        if not rows:
+            lines.append(f"No frequency was run at both resolutions ({name}: "
+                         f"{', '.join(f for f, r in other['frequencies'].items() if r != 'not run') or 'none'}).")
+            continue
+        for f, row in rows.items():
+            r = other["frequencies"][f]
+            lines += [f"{f} Hz: {row['particles'][rep['resolution']]} vs {row['particles'][name]} particles "
+                      f"(spheres in the model, the free-field columns apart); {name} wall time "
+                      f"{r['wall_time_s']:.0f} s.", "",
+                      f"| quantity | {rep['resolution']} | {name} | change |", "|---|---|---|---|"]
+            for k in KEYS:
+                if k == "wall_time_s":
+                    continue
+                c = row[k]
+                ch = "" if c["change_percent"] is None else f"{c['change_percent']:+.0f} %"
+                lines.append(f"| {k} | {c[rep['resolution']]:.4g} | {c[name]:.4g} | {ch} |")
+            same = [t for t, ok in row["trends_same"].items() if ok]
+            diff = [t for t, ok in row["trends_same"].items() if not ok]
+            lines += ["", f"Single-frequency trends with the same verdict at both: {len(same)} of "
+                          f"{len(row['trends_same'])}" + (f"; different: {', '.join(diff)} ({name}: "
+                          + ", ".join(_held(r['trends'][t]) for t in diff) + ")" if diff else "") + "."]
+    return lines

@@ -163,3 +163,23 @@ def test_a_wall_that_fails_before_the_shaking_is_not_assessed():
     assert stood_before_shaking(standing, 3.0, 6.75)[0] is True
     assert _held({"held": None, "numbers": "not assessed: a static failure"}) == "not assessed"
     assert _held({"held": None, "numbers": "not run (needs every frequency)"}) == "not run"
+
+
+def test_resolution_changes_set_a_second_resolution_beside_the_first():
+    """The report's resolution comparison (issue 26: measure how the results move between
+    two resolutions): a top displacement of 0.10 m at the coarse resolution and 0.12 m at
+    the medium is +20 %; a frequency run at one resolution only is left out; a trend that
+    held at one and not at the other is flagged."""
+    from studies.seismic.validate import KEYS, resolution_changes
+    held, not_held = {"held": True, "numbers": ""}, {"held": False, "numbers": ""}
+
+    def record(top, trend):
+        return {k: 1.0 for k in KEYS} | {"top_displacement_m": top, "trends": {"pivot near base": trend},
+                                          "extra": {"particles": 100}}
+    rep = {"resolution": "coarse", "frequencies": {"5": record(0.10, held), "6": record(0.2, held)},
+           "other_resolutions": {"medium": {"frequencies": {"5": record(0.12, not_held), "6": "not run"}}}}
+    rows = resolution_changes(rep)["medium"]
+    assert list(rows) == ["5"]
+    assert rows["5"]["top_displacement_m"]["change_percent"] == pytest.approx(20.0)
+    assert rows["5"]["rotation_deg"]["change_percent"] == 0.0
+    assert rows["5"]["trends_same"] == {"pivot near base": False}
