@@ -119,7 +119,7 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     log = None if opts.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
     if opts.case == "B":
         rep = validate_case_b(case, out_dir=Path(opts.docs), root=Path(opts.out), walls=walls, seeds=opts.backfill_seeds,
-                              log=log)
+                              run_missing=not opts.finished_only, log=log)
     else:
         rep = validate_drystone(case, out_dir=Path(opts.docs), walls=walls, band=opts.band,
                                 convergence=not opts.no_convergence, log=log)
@@ -190,6 +190,8 @@ VALIDATE = Command(
                     parse=_walls, default=None),
              Option("--backfill-seeds", "case B: comma list of backfill seeds, the realisations (1,2)", parse=_seeds,
                     default=(1, 2)),
+             Option("--finished-only", "case B: report the finished runs under --out, the others as not run "
+                    "(nothing is run)", switch=True),
              Option("--band", "case A: dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
                     choices=("dem", "le"), default="dem"),
              Option("--no-convergence", "case A: skip the dt / 2, 2 x iterations repeat", switch=True),

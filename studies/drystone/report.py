@@ -172,6 +172,9 @@ def case_b_table(walls: dict) -> list[str]:
             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for w, seeds in walls.items():
         for seed, e in seeds.items():
+            if e == "not run":
+                rows.append(f"| {w} | {seed} | | not run | | | | | | | |")
+                continue
             le, p = e["limit_equilibrium"], e["particles"]
             rows.append(f"| {w} | {seed} | {e['measured_height_m']:.2f} {e['measured_mode']} | "
                         f"{_f(e['critical_height_m'], '.2f', 'stood')} {e['mode'] or ''}, "
@@ -186,6 +189,9 @@ def case_b_checks(walls: dict) -> list[dict]:
     out = []
     for w, seeds in walls.items():
         for seed, e in seeds.items():
+            if e == "not run":
+                out.append(check(f"{w} seed {seed}: not run", "-", None))
+                continue
             out.append(check(f"{w} seed {seed}: DEM critical height within {ACCURACY_LIMIT_PERCENT:g} % of measured",
                              f"{_f(e['critical_height_m'], '.2f', 'stood')} m vs {e['measured_height_m']:.2f} m "
                              f"({_f(e['error_percent'], '+.1f', '-')} %)", e["within_10_percent"]))
@@ -200,6 +206,8 @@ def case_b_speed(walls: dict) -> list[str]:
             "|---|---|---|---|---|---|---|---|---|"]
     for w, seeds in walls.items():
         for seed, e in seeds.items():
+            if e == "not run":
+                continue
             by, cpu = e["cpu_by_phase_s"], e["cpu_time_s"]
             rows.append(f"| {w} | {seed} | {e['steps_per_cpu_s']:.1f} | {e['body_steps_per_cpu_s'] / 1e6:.2f} M | " +
                         " | ".join(f"{100 * by.get(k, 0.0) / cpu:.0f} %" for k in
@@ -210,7 +218,7 @@ def case_b_speed(walls: dict) -> list[str]:
 def case_b_lines(b: dict) -> list[str]:
     """The case-B section of drystone.md (``validate_b.validate_case_b``)."""
     walls, st, lv = b["walls"], b["settings"], b["local_values"]
-    runs = [e for seeds in walls.values() for e in seeds.values()]
+    runs = [e for seeds in walls.values() for e in seeds.values() if e != "not run"]
     gits = sorted({e["git"] for e in runs if e.get("git")})
     recordings = [e["recording"] for e in runs if e.get("recording")]
     return ["## Case B: Colas's walls under gravel backfill", "",
@@ -249,7 +257,7 @@ def case_b_lines(b: dict) -> list[str]:
             "### Figures", "",
             *[f"- {w} seed {seed}: [thrust vs backfill height, with Coulomb](drystone/{w}_seed{seed}_thrust.png), "
               f"[mechanism at failure](drystone/{w}_seed{seed}_mechanism.png)"
-              for w, seeds in walls.items() for seed in seeds], "",
+              for w, seeds in walls.items() for seed, e in seeds.items() if e != "not run"], "",
             *([f"Rerun recordings (blocks, grains, force chains, block velocities at failure; not committed): "
                + ", ".join(f"`{r}`" for r in recordings), ""] if recordings else [])]
 

@@ -48,12 +48,17 @@ def finished_run(case: DrystoneCase, root: Path) -> Path | None:
     return None
 
 
-def run_wall(case: DrystoneCase, root: Path, log=None) -> tuple[dict, dict, Path]:
+def run_wall(case: DrystoneCase, root: Path, log=None, run_missing: bool = True) -> tuple[dict, dict, Path] | None:
     """(result, manifest, folder) of one wall and seed: read from its finished run folder
-    or run now (``run_b.compare_backfill``, no recording)."""
+    or run now (``run_b.compare_backfill``, no recording); None when it has no finished
+    run and ``run_missing`` is False."""
     from .run_b import compare_backfill
     folder = finished_run(case, root)
     tag = f"{case.wall} seed {case.backfill.seed}"
+    if folder is None and not run_missing:
+        if log:
+            log(f"{tag}: no finished run under {root}: reported as not run")
+        return None
     if folder is None:
         if log:
             log(f"{tag}: running (35-40 min of one core at full size)")
@@ -97,9 +102,10 @@ def _figures(folder: Path, fig_dir: Path, wall: str, seed: int) -> None:
 
 
 def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: list[str] = list(WALLS_B),
-                    seeds: tuple[int, ...] = SEEDS, log=None) -> dict:
+                    seeds: tuple[int, ...] = SEEDS, run_missing: bool = True, log=None) -> dict:
     """Every wall in ``walls`` on every seed; writes case B into drystone.json (case A
-    kept as it is) and drystone.md, and the figures into drystone/."""
+    kept as it is) and drystone.md, and the figures into drystone/. ``run_missing``
+    False: only the finished runs, the others written as "not run"."""
     from .report import write_report
     t0, c0 = time.perf_counter(), time.process_time()
     git = git_revision()
@@ -110,7 +116,11 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
     for w in walls:
         for seed in seeds:
             c = replace(case, wall=w, backfill=replace(case.backfill, seed=seed))
-            result, manifest, folder = run_wall(c, root, log)
+            found = run_wall(c, root, log, run_missing)
+            if found is None:
+                rows.setdefault(w, {})[str(seed)] = "not run"
+                continue
+            result, manifest, folder = found
             rows.setdefault(w, {})[str(seed)] = entry(result, manifest, folder)
             local_values = result["local_values"]
             assumptions += [a for a in result["assumptions"] if a not in assumptions]

@@ -121,7 +121,8 @@ def test_validate_case_b_writes_both_seeds_keeps_case_a_and_reuses_runs(tmp_path
     """``validate drystone --case B`` at the narrow wall's size (two seeds): drystone.json
     gains case B in the issue's keys with the measured C2S height (2.30 m, S-OET Table 4),
     each seed failing no later than the limit-equilibrium stage (as above); case A, already
-    there, is kept; a second call reads the finished runs instead of running them."""
+    there, is kept; a second call reads the finished runs instead of running them, and
+    with ``run_missing`` False a seed without a run is written as not run."""
     import shutil
     from pathlib import Path
 
@@ -148,3 +149,8 @@ def test_validate_case_b_writes_both_seeds_keeps_case_a_and_reuses_runs(tmp_path
     again = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 2))
     assert sorted((tmp_path / "runs" / "drystone").iterdir()) == folders
     assert again["case_b"]["walls"] == rep["case_b"]["walls"]
+    partial = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 3),
+                              run_missing=False)
+    assert sorted((tmp_path / "runs" / "drystone").iterdir()) == folders          # seed 3 not run
+    assert partial["case_b"]["walls"]["C2S"]["3"] == "not run"
+    assert "| C2S | 3 | | not run |" in (docs / "drystone.md").read_text()
