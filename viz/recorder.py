@@ -285,6 +285,16 @@ class Recorder:
         self.rec.log(P.DISPLACEMENT, Arrows(origins=x0[::k].astype(np.float32),
                                             vectors=(x1 - x0)[::k].astype(np.float32)))
 
+    def _log_blocks(self, step: int, time: float, outlines: list, displacement: np.ndarray, metrics) -> None:
+        """The frame's time and series, and the block outlines (k,2) coloured by each
+        block's displacement magnitude (m, viridis up to the largest)."""
+        self._remember(step, time, None, metrics)
+        self._set_time(step, time, None)
+        d = np.asarray(displacement, float)
+        colours = _viridis(d, float(d.max()) if len(d) and d.max() > 0 else 1.0)
+        strips = [np.vstack([b, b[:1]]).astype(np.float32) for b in outlines]
+        self.rec.log(P.BLOCKS, rr.LineStrips2D(strips, colors=colours, radii=[0.004]))
+
     @_timed
     def log_block_wall(self, step: int, time: float, outlines: list, displacement: np.ndarray, *,
                        water_height: float, water_x: tuple[float, float],
@@ -295,12 +305,7 @@ class Recorder:
         ``water_x`` at ``water_height``, and joint contact points sized by normal force."""
         if self.rec is None:
             return
-        self._remember(step, time, None, metrics)
-        self._set_time(step, time, None)
-        d = np.asarray(displacement, float)
-        colours = _viridis(d, float(d.max()) if len(d) and d.max() > 0 else 1.0)
-        strips = [np.vstack([b, b[:1]]).astype(np.float32) for b in outlines]
-        self.rec.log(P.BLOCKS, rr.LineStrips2D(strips, colors=colours, radii=[0.004]))
+        self._log_blocks(step, time, outlines, displacement, metrics)
         self.rec.log(P.WATER, rr.LineStrips2D([np.array([[water_x[0], water_height], [water_x[1], water_height]],
                                                         np.float32)], colors=[[40, 110, 230]], radii=[0.01]))
         if contact_points is not None and len(contact_points):
@@ -325,12 +330,7 @@ class Recorder:
         when given (at failure)."""
         if self.rec is None:
             return
-        self._remember(step, time, None, metrics)
-        self._set_time(step, time, None)
-        d = np.asarray(displacement, float)
-        colours = _viridis(d, float(d.max()) if len(d) and d.max() > 0 else 1.0)
-        self.rec.log(P.BLOCKS, rr.LineStrips2D([np.vstack([b, b[:1]]).astype(np.float32) for b in outlines],
-                                               colors=colours, radii=[0.004]))
+        self._log_blocks(step, time, outlines, displacement, metrics)
         g = np.asarray(grain_outlines, np.float32)
         if len(g):
             closed = np.concatenate([g, g[:, :1]], axis=1)
