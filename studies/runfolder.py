@@ -93,6 +93,12 @@ def _toml_ready(obj):
     return obj
 
 
+def config_toml(config) -> str:
+    """The resolved case as config.toml holds it (before the notes on where each setting
+    came from, which are comments)."""
+    return tomli_w.dumps(_toml_ready(to_plain(config)))
+
+
 def _load_average() -> float | None:
     try:
         return round(os.getloadavg()[0], 2)
@@ -161,7 +167,7 @@ class RunFolder:
         return p
 
     def write_config(self, config) -> Path:
-        return atomic_write(self.file("config.toml"), tomli_w.dumps(_toml_ready(to_plain(config))).encode())
+        return atomic_write(self.file("config.toml"), config_toml(config).encode())
 
     def write_manifest(self, **extra) -> Path:
         """Provenance: package versions, git revision, host, seed, wall time so far."""

@@ -17,9 +17,7 @@ import tomllib
 from dataclasses import replace
 from pathlib import Path
 
-import tomli_w
-
-from ..runfolder import _toml_ready, git_revision, package_versions, to_plain
+from ..runfolder import config_toml, git_revision, package_versions, to_plain
 from ..store import atomic_write
 from .case import WALLS_B, DrystoneCase
 from .run import RIGID_NOTE
@@ -30,7 +28,7 @@ SEEDS = (1, 2)
 
 def _config(case: DrystoneCase) -> dict:
     """The case as its run folder's config.toml reads back."""
-    return tomllib.loads(tomli_w.dumps(_toml_ready(to_plain(case))))
+    return tomllib.loads(config_toml(case))
 
 
 def finished_run(case: DrystoneCase, root: Path) -> Path | None:
