@@ -527,10 +527,12 @@ def plot_drystone_history(water_height_m, crest_displacement_m, path, *, title: 
     return _finish(fig, path, tight=False)
 
 
-def plot_drystone_mechanism(outlines_ref, outlines, velocities, path, *, water_height: float, title: str,
-                            level_m: float | None = None, pivot=None, notes: list[str] = ()) -> Path:
+def plot_drystone_mechanism(outlines_ref, outlines, velocities, path, *, water_height: float | None, title: str,
+                            level_m: float | None = None, pivot=None, backfill_height: float | None = None,
+                            notes: list[str] = ()) -> Path:
     """Blocks at failure: the last settled wall in grey, the wall at failure coloured by
-    block speed, velocity arrows, the water level and the mechanism (level, pivot)."""
+    block speed, velocity arrows, the water level (case A) or the backfill height at the
+    inner face (case B) and the mechanism (level, pivot)."""
     from matplotlib.collections import PolyCollection
 
     fig, ax = plt.subplots(figsize=(6.4, 6.4))
@@ -545,7 +547,11 @@ def plot_drystone_mechanism(outlines_ref, outlines, velocities, path, *, water_h
         ax.quiver(cents[:, 0], cents[:, 1], v[:, 0], v[:, 1], color="C3", width=0.003)
     allpts = np.vstack(outlines)
     x0, x1 = allpts[:, 0].min(), allpts[:, 0].max()
-    ax.plot([x1, x1 + 0.4], [water_height, water_height], color="C0", lw=2, label=f"water {water_height:.2f} m")
+    if water_height is not None:
+        ax.plot([x1, x1 + 0.4], [water_height, water_height], color="C0", lw=2, label=f"water {water_height:.2f} m")
+    if backfill_height is not None:
+        ax.plot([x1, x1 + 0.4], [backfill_height, backfill_height], color="C5", lw=2,
+                label=f"backfill at the inner face {backfill_height:.2f} m")
     if level_m is not None:
         ax.axhline(level_m, color="C1", ls="--", lw=1, label=f"mechanism level {level_m:.3f} m")
     if pivot is not None:

@@ -167,7 +167,8 @@ def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None
     title = (f"{case.wall} at failure, H_b = {result['critical_height_m']:.2f} m: {m.mode} at {m.level_m:.2f} m"
              if m else f"{case.wall}: stood to H_b = {st[-1]['backfill_height_m']:.2f} m" if st else case.wall)
     plot_drystone_mechanism(run["reference_outlines"], bw.wall.world_outlines(), bw.wall.velocities(),
-                            folder.file("mechanism.png"), water_height=0.0, title=title,
+                            folder.file("mechanism.png"), water_height=None,
+                            backfill_height=st[-1]["backfill_height_m"] if st else None, title=title,
                             level_m=m.level_m if m else None, pivot=m.pivot if m and m.mode == "toppling" else None,
                             notes=result["assumptions"])
 
