@@ -195,9 +195,15 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
     return rep
 
 
+#: the static state and the peaks behind the ratios, compared as well
+COMPARED_EXTRA = ("passive_K_static_at_1_5m", "thrust_back_static_kN_per_m", "thrust_back_max_kN_per_m",
+                  "thrust_front_static_kN_per_m", "thrust_front_max_kN_per_m")
+
+
 def resolution_changes(rep: dict) -> dict:
-    """Per other resolution and frequency run at both: each KEYS value at the report's
-    resolution, at the other, and the change [%] (wall time left out: it is a cost)."""
+    """Per other resolution and frequency run at both: each KEYS value (wall time left
+    out: it is a cost) and each COMPARED_EXTRA value at the report's resolution, at the
+    other, and the change [%]."""
     out = {}
     for name, other in rep.get("other_resolutions", {}).items():
         rows = {}
@@ -205,9 +211,10 @@ def resolution_changes(rep: dict) -> dict:
             base = rep["frequencies"].get(f)
             if r == "not run" or base in (None, "not run"):
                 continue
-            rows[f] = {k: {rep["resolution"]: base[k], name: r[k],
-                           "change_percent": 100 * (r[k] - base[k]) / abs(base[k]) if base[k] else None}
-                       for k in KEYS if k != "wall_time_s"}
+            pairs = {k: (base[k], r[k]) for k in KEYS if k != "wall_time_s"} | \
+                {k: (base["extra"][k], r["extra"][k]) for k in COMPARED_EXTRA}
+            rows[f] = {k: {rep["resolution"]: b, name: o, "change_percent": 100 * (o - b) / abs(b) if b else None}
+                       for k, (b, o) in pairs.items()}
             rows[f]["particles"] = {rep["resolution"]: base["extra"]["particles"], name: r["extra"]["particles"]}
             rows[f]["trends_same"] = {t: _held(base["trends"][t]) == _held(r["trends"][t]) for t in base["trends"]}
         out[name] = rows
@@ -306,9 +313,7 @@ def resolution_lines(rep: dict) -> list[str]:
                       f"(spheres in the model, the free-field columns apart); {name} wall time "
                       f"{r['wall_time_s']:.0f} s.", "",
                       f"| quantity | {rep['resolution']} | {name} | change |", "|---|---|---|---|"]
-            for k in KEYS:
-                if k == "wall_time_s":
-                    continue
+            for k in [k for k in KEYS if k != "wall_time_s"] + list(COMPARED_EXTRA):
                 c = row[k]
                 ch = "" if c["change_percent"] is None else f"{c['change_percent']:+.0f} %"
                 lines.append(f"| {k} | {c[rep['resolution']]:.4g} | {c[name]:.4g} | {ch} |")

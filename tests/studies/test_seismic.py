@@ -170,12 +170,12 @@ def test_resolution_changes_set_a_second_resolution_beside_the_first():
     two resolutions): a top displacement of 0.10 m at the coarse resolution and 0.12 m at
     the medium is +20 %; a frequency run at one resolution only is left out; a trend that
     held at one and not at the other is flagged."""
-    from studies.seismic.validate import KEYS, resolution_changes
+    from studies.seismic.validate import COMPARED_EXTRA, KEYS, resolution_changes
     held, not_held = {"held": True, "numbers": ""}, {"held": False, "numbers": ""}
 
     def record(top, trend):
         return {k: 1.0 for k in KEYS} | {"top_displacement_m": top, "trends": {"pivot near base": trend},
-                                          "extra": {"particles": 100}}
+                                          "extra": {k: 2.0 for k in COMPARED_EXTRA} | {"particles": 100}}
     rep = {"resolution": "coarse", "frequencies": {"5": record(0.10, held), "6": record(0.2, held)},
            "other_resolutions": {"medium": {"frequencies": {"5": record(0.12, not_held), "6": "not run"}}}}
     rows = resolution_changes(rep)["medium"]
