@@ -222,7 +222,8 @@ def case_b_lines(b: dict) -> list[str]:
     gits = sorted({e["git"] for e in runs if e.get("git")})
     recordings = [e["recording"] for e in runs if e.get("recording")]
     return ["## Case B: Colas's walls under gravel backfill", "",
-            f"Command: `wallsim validate drystone --case B`; runs at git {', '.join(gits)}; report {b['created']} "
+            f"Command: `{b.get('command', 'wallsim validate drystone --case B')}` (run folders under "
+            f"`{b.get('runs_root', '?')}`, not committed); runs at git {', '.join(gits)}; report {b['created']} "
             f"(git {b['command_git']}). Paper: Oetomo et al., Table 4 (measured after Colas et al.; the paper's "
             "DEM, two realisations per wall).", "",
             f"Engine `dem2d.backfill` over `dem2d.blocks`: blocks 0.33 x 0.12 m, first course free on the "

@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 import shutil
+import sys
 import time
 import tomllib
 from dataclasses import replace
@@ -137,6 +138,7 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
                      "slope_deg": b.slope_deg, "container_m": b.container_m, "formwork_m": b.formwork_m,
                      "formwork": b.formwork, "hold_depth_m": b.hold_depth_m, "hold_distance_m": b.hold_distance_m},
         "local_values": local_values, "assumptions": assumptions, "note": RIGID_NOTE,
+        "command": " ".join(sys.argv), "runs_root": str(root),
         "command_git": git, "versions": package_versions(), "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command_wall_time_s": time.perf_counter() - t0, "command_cpu_time_s": time.process_time() - c0}
     write_report(rep, out_dir)
