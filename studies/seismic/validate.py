@@ -226,8 +226,7 @@ ASSUMPTIONS = ("Assumed, not from the paper (reference.json, tag A): the contact
                "G 29 GPa, nu 0.15), friction 0.5, contact damping 5 %, the wall-soil friction (= the grains'), "
                "the bonds' stiffness split, and the rolling resistance mu_r 0.25 of the grains, calibrated once "
                "(not per frequency) so that the deposit's triaxial gives the paper's phi ~31 deg: friction alone "
-               "gives ~18-19 deg and the wall then fails statically. How the results move across mu_r is not "
-               "measured.")
+               "gives ~18-19 deg and the wall then fails statically.")
 
 
 def material_lines(mat: dict) -> list[str]:
