@@ -100,6 +100,18 @@ def _figures(folder: Path, fig_dir: Path, wall: str, seed: int) -> None:
             shutil.copyfile(src, fig_dir / f"{wall}_seed{seed}_{name}.png")
 
 
+def tagged_assumptions(by_wall: dict[str, list[str]]) -> list[str]:
+    """Every run's assumptions once: those all walls share as they are, the others
+    (sections differ per wall) led by the walls they belong to, e.g. "C3S: base width ..."."""
+    shared = [a for a in next(iter(by_wall.values()), []) if all(a in v for v in by_wall.values())]
+    own: dict[str, list[str]] = {}
+    for w, items in by_wall.items():
+        for a in items:
+            if a not in shared:
+                own.setdefault(a, []).append(w)
+    return shared + [f"{', '.join(ws)}: {a}" for a, ws in own.items()]
+
+
 def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: list[str] = list(WALLS_B),
                     seeds: tuple[int, ...] = SEEDS, run_missing: bool = True, log=None) -> dict:
     """Every wall in ``walls`` on every seed; writes case B into drystone.json (case A
@@ -111,7 +123,7 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
     fig_dir = out_dir / "drystone"
     fig_dir.mkdir(parents=True, exist_ok=True)
     rows: dict[str, dict[str, dict]] = {}
-    local_values, assumptions = None, []      # assumptions: every run's, each once (sections differ per wall)
+    local_values, assumptions_by_wall = None, {}
     for w in walls:
         for seed in seeds:
             c = replace(case, wall=w, backfill=replace(case.backfill, seed=seed))
@@ -122,7 +134,7 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
             result, manifest, folder = found
             rows.setdefault(w, {})[str(seed)] = entry(result, manifest, folder)
             local_values = result["local_values"]
-            assumptions += [a for a in result["assumptions"] if a not in assumptions]
+            assumptions_by_wall.setdefault(w, result["assumptions"])
             _figures(folder, fig_dir, w, seed)
             if log:
                 e = rows[w][str(seed)]
@@ -137,7 +149,7 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
                      "grain_shape": b.grain_shape, "width_m": [b.width_min_m, b.width_max_m], "layer_m": b.layer_m,
                      "slope_deg": b.slope_deg, "container_m": b.container_m, "formwork_m": b.formwork_m,
                      "formwork": b.formwork, "hold_depth_m": b.hold_depth_m, "hold_distance_m": b.hold_distance_m},
-        "local_values": local_values, "assumptions": assumptions, "note": RIGID_NOTE,
+        "local_values": local_values, "assumptions": tagged_assumptions(assumptions_by_wall), "note": RIGID_NOTE,
         "command": " ".join(sys.argv), "runs_root": str(root),
         "command_git": git, "versions": package_versions(), "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command_wall_time_s": time.perf_counter() - t0, "command_cpu_time_s": time.process_time() - c0}

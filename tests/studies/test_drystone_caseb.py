@@ -154,3 +154,14 @@ def test_validate_case_b_writes_both_seeds_keeps_case_a_and_reuses_runs(tmp_path
     assert sorted((tmp_path / "runs" / "drystone").iterdir()) == folders          # seed 3 not run
     assert partial["case_b"]["walls"]["C2S"]["3"] == "not run"
     assert "| C2S | 3 | | not run |" in (docs / "drystone.md").read_text()
+
+
+def test_report_tags_each_walls_own_assumptions_with_the_wall():
+    """The case-B report lists an assumption every wall shares once, as it is, and one
+    that differs between walls (C2S's 0.60 m base, C3S's 0.76 m: reference 3.3's
+    back-fit) led by the walls it belongs to, so no base width reads as every wall's."""
+    from studies.drystone.validate_b import tagged_assumptions
+    tagged = tagged_assumptions({"C2S": ["unit weight 20 kN/m3", "base width 0.6 m"],
+                                 "C3S": ["unit weight 20 kN/m3", "base width 0.76 m"],
+                                 "C4L": ["unit weight 20 kN/m3", "base width 0.6 m"]})
+    assert tagged == ["unit weight 20 kN/m3", "C2S, C4L: base width 0.6 m", "C3S: base width 0.76 m"]
