@@ -548,6 +548,44 @@ class Mechanism:
     pivot: tuple | None
 
 
+@dataclass(frozen=True)
+class RigidFit:
+    """One planar rigid motion fitted to many blocks' displacements (``rigid_motion_fit``).
+
+    rotation_deg: rotation, counter-clockwise positive (outward toppling in the wall's
+                  frame, x inward from the outer toe) [deg]
+    pivot:        the point the motion leaves in place (x, y) [m]; None without rotation
+    rms_residual_m, max_residual_m: how far the blocks' displacements depart from the
+                  one motion (root mean square, largest) [m]
+    worst:        index of the block that departs most
+    """
+
+    rotation_deg: float
+    pivot: tuple | None
+    rms_residual_m: float
+    max_residual_m: float
+    worst: int
+
+
+def rigid_motion_fit(x0: np.ndarray, x1: np.ndarray) -> RigidFit:
+    """Least-squares rigid motion x1 ~ c + T + R(w)(x0 - c) of points (n, 2) [m], with
+    c their centroid: linearised in w (small rotations), d = T + w k x (x0 - c), whose
+    fixed point is the pivot. A whole part of the wall rotating as one body leaves
+    residuals far below its movement; a single block's slip stands out as ``worst``.
+    Unlike ``classify_mechanism``'s top-two-course mean, which a lone slipping crest
+    block can pull anywhere, every block given weighs the same."""
+    x0, d = np.asarray(x0, float), np.asarray(x1, float) - np.asarray(x0, float)
+    r = x0 - x0.mean(axis=0)
+    a = np.zeros((2 * len(x0), 3))
+    a[0::2, 0], a[1::2, 1] = 1.0, 1.0
+    a[0::2, 2], a[1::2, 2] = -r[:, 1], r[:, 0]
+    (tx, ty, w), *_ = np.linalg.lstsq(a, d.reshape(-1), rcond=None)
+    res = np.hypot(*(d.reshape(-1) - a @ np.array([tx, ty, w])).reshape(-1, 2).T)
+    c = x0.mean(axis=0)
+    pivot = (float(c[0] - ty / w), float(c[1] + tx / w)) if abs(w) > 1e-12 else None
+    return RigidFit(math.degrees(w), pivot, float(np.sqrt((res ** 2).mean())), float(res.max()), int(res.argmax()))
+
+
 def classify_mechanism(section, block_height: float, course: np.ndarray, dynamic: np.ndarray,
                        x0: np.ndarray, a0: np.ndarray, x1: np.ndarray, a1: np.ndarray) -> Mechanism:
     """Sliding or toppling, from block kinematics between states 0 and 1.

@@ -200,6 +200,27 @@ def case_b_checks(walls: dict) -> list[dict]:
     return out
 
 
+def case_b_motion(walls: dict) -> list[str]:
+    """The failing stage's block motion: the classifier's mode beside one rigid motion
+    fitted to every block above the first course (``validate_b.motion_at_failure``)."""
+    rows = ["| wall | seed | mode, level (m) | rotation (deg) | pivot x, y (m) | crest movement (mm) | "
+            "rms departure (mm) | largest departure (mm), course |", "|---|---|---|---|---|---|---|---|"]
+    for w, seeds in walls.items():
+        for seed, e in seeds.items():
+            if e == "not run":
+                continue
+            m = e.get("motion_at_failure")
+            head = f"| {w} | {seed} | {e['mode']}, {_f(e['mechanism_level_m'], '.2f', '-')} |"
+            if m is None:
+                rows.append(head + " no recording | | | | |")
+                continue
+            p = m["pivot_m"]
+            rows.append(head + f" {m['rotation_deg']:.2f} | " + (f"{p[0]:.2f}, {p[1]:.2f}" if p else "-") +
+                        f" | {m['crest_movement_mm']:.1f} | {m['rms_residual_mm']:.1f} | "
+                        f"{m['max_residual_mm']:.1f}, {m['max_residual_course']} |")
+    return rows
+
+
 def case_b_speed(walls: dict) -> list[str]:
     """Steps and body-steps per CPU second, and where the CPU went, per run."""
     rows = ["| wall | seed | steps / CPU s | body-steps / CPU s | build | drop | place | settle | read |",
@@ -248,6 +269,13 @@ def case_b_lines(b: dict) -> list[str]:
             *case_b_table(walls), "",
             "#" + checks_markdown(case_b_checks(walls), "Validation targets, case B")[0],
             *checks_markdown(case_b_checks(walls))[1:], "",
+            "### How the wall moved in the failing stage", "",
+            "Mode and level: `dem2d.blocks.classify_mechanism` on the top two courses (the mode checked above). "
+            "Beside it, one rigid motion fitted to every block above the first course, between the last settled "
+            "stage and failure (read from the run's recording): a pivot at the outer toe (x, y near 0) with "
+            "departures far below the crest movement is the whole wall toppling as one body; the largest "
+            "departure names the course of a block that moved on its own.", "",
+            *case_b_motion(walls), "",
             "### Speed: where the CPU goes", "",
             f"{len(runs)} runs: {sum(e['cpu_time_s'] for e in runs):,.0f} s CPU, "
             f"{sum(e['wall_time_s'] for e in runs):,.0f} s wall (wall time depends on what else ran on the two cores: "

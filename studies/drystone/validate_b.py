@@ -4,7 +4,7 @@ case B of docs/validation/drystone.{json,md} and drystone/ figures.
 
 A wall and seed whose finished run folder (result.json) under ``--out`` was made from
 the same resolved case (config.toml equal field for field) is read, not run again: a
-wall costs 35-40 min of one core, and a validation interrupted after three walls keeps
+wall costs 35-65 min of one core, and a validation interrupted after three walls keeps
 them."""
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def finished_run(case: DrystoneCase, root: Path) -> Path | None:
 
 def run_wall(case: DrystoneCase, root: Path, log=None, run_missing: bool = True) -> tuple[dict, dict, Path] | None:
     """(result, manifest, folder) of one wall and seed: read from its finished run folder
-    or run now (``run_b.compare_backfill``, no recording); None when it has no finished
+    or run now (``run_b.compare_backfill``, with its recording); None when it has no finished
     run and ``run_missing`` is False."""
     from .run_b import compare_backfill
     folder = finished_run(case, root)
@@ -60,8 +60,8 @@ def run_wall(case: DrystoneCase, root: Path, log=None, run_missing: bool = True)
         return None
     if folder is None:
         if log:
-            log(f"{tag}: running (35-40 min of one core at full size)")
-        _, folder = compare_backfill(case, root=root, record=False)
+            log(f"{tag}: running (35-65 min of one core at full size)")
+        _, folder = compare_backfill(case, root=root, record=True)
     elif log:
         log(f"{tag}: finished run found in {folder}")
     return (json.loads((folder / "result.json").read_text()), json.loads((folder / "manifest.json").read_text()),
@@ -90,6 +90,41 @@ def entry(result: dict, manifest: dict, folder: Path) -> dict:
             "git": manifest.get("git"), "versions": manifest.get("versions"),
             "load_average_1min": manifest.get("load_average_1min"), "run_folder": str(folder),
             "recording": result.get("recording")}
+
+
+def motion_at_failure(case: DrystoneCase, recording: Path) -> dict | None:
+    """How the blocks above the first course moved in the failing stage, from the run's
+    recording: one rigid motion fitted to their outline centres between the last settled
+    stage (the last frame before the failing stage's step) and the failure frame
+    (``dem2d.blocks.rigid_motion_fit``). A second reading of the mode, beside
+    ``classify_mechanism``'s (which uses the top two courses only). None without a
+    recording holding both frames."""
+    import numpy as np
+
+    from dem2d.blocks import BlockWall, rigid_motion_fit
+    from viz import paths as P
+    from viz import readback
+
+    from .case import masonry
+    if not recording.is_file():
+        return None
+    steps, frames = readback.read_column(recording, "/" + P.BLOCKS, "LineStrips2D:strips")
+    before = [k for k, t in enumerate(steps) if t < steps[-1]] if len(steps) else []
+    if not before:
+        return None
+    wall = BlockWall.build(case.section(), masonry(case))
+    centres = [np.array([np.asarray(s, float)[:-1].mean(axis=0) for s in frames[k]]) for k in (before[-1], -1)]
+    if any(len(c) != len(wall.course) for c in centres):
+        return None
+    upper = wall.course >= 1
+    fit = rigid_motion_fit(centres[0][upper], centres[1][upper])
+    moved = np.hypot(*(centres[1] - centres[0]).T)
+    top = wall.course == wall.course.max()
+    worst = np.flatnonzero(upper)[fit.worst]
+    return {"rotation_deg": fit.rotation_deg, "pivot_m": fit.pivot, "rms_residual_mm": 1e3 * fit.rms_residual_m,
+            "max_residual_mm": 1e3 * fit.max_residual_m, "max_residual_course": int(wall.course[worst]),
+            "crest_movement_mm": float(1e3 * moved[top].mean()), "blocks": int(upper.sum()),
+            "steps": [int(steps[before[-1]]), int(steps[-1])]}
 
 
 def _figures(folder: Path, fig_dir: Path, wall: str, seed: int) -> None:
@@ -133,6 +168,7 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
                 continue
             result, manifest, folder = found
             rows.setdefault(w, {})[str(seed)] = entry(result, manifest, folder)
+            rows[w][str(seed)]["motion_at_failure"] = motion_at_failure(c, folder / "recording.rrd")
             local_values = result["local_values"]
             assumptions_by_wall.setdefault(w, result["assumptions"])
             _figures(folder, fig_dir, w, seed)

@@ -142,8 +142,12 @@ def test_validate_case_b_writes_both_seeds_keeps_case_a_and_reuses_runs(tmp_path
         assert e["measured_height_m"] == 2.30 and e["seed"] == int(seed)
         assert case.backfill.layer_m < e["critical_height_m"] <= e["limit_equilibrium"]["critical_height_m"] + \
             case.backfill.layer_m
+        m = e["motion_at_failure"]                  # read from the run's recording
+        assert 0 < m["blocks"] < e["particles"]["blocks"] and m["steps"][0] < m["steps"][1]   # above course 0
+        assert m["crest_movement_mm"] > 0 and m["rms_residual_mm"] <= m["max_residual_mm"]
     text = (docs / "drystone.md").read_text()
     assert "## Case A" in text and "## Case B" in text and "| C2S | 2 |" in text
+    assert "### How the wall moved in the failing stage" in text
     folders = sorted((tmp_path / "runs" / "drystone").iterdir())
     assert len(folders) == 2
     again = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 2))
