@@ -303,6 +303,9 @@ def write_report(rep: dict, out_dir: Path) -> Path:
                     "case B, Colas's walls under gravel backfill")
         lines[2:2] = ["## Case A: Villemus's walls loaded by water", ""]
         lines += case_b_lines(rep["case_b"])
+        discussion_b = out_dir / "drystone_caseb_discussion.md"
+        if discussion_b.is_file():
+            lines += [discussion_b.read_text().rstrip(), ""]
     path = out_dir / "drystone.md"
     atomic_write(path, "\n".join(lines).encode())
     return path
