@@ -485,6 +485,7 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
     w_ut = wps.ut
     w_out = wps.out
     inv_m = sph.inv_m
+    x_ref = sph.x_ref
     alpha = prm.local_damping
     need_m = prm.damping == RATIO
     n_moved = 0
@@ -623,7 +624,7 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
             w[i, 0] += dt * bx
             w[i, 1] += dt * by
             w[i, 2] += dt * bz
-        n_moved_i, n_bad_i, n_fast_i = _check(sph, i, ref_limit2, speed_limit2)
+        n_moved_i, n_bad_i, n_fast_i = _check(x, v, w, x_ref, i, ref_limit2, speed_limit2)
         n_moved += n_moved_i
         n_bad += n_bad_i
         n_fast += n_fast_i
@@ -806,14 +807,18 @@ def _sign(a):
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def _check(sph, i, ref_limit2, speed_limit2):
-    x = sph.x
-    v = sph.v
-    ddx = x[i, 0] - sph.x_ref[i, 0]
-    ddy = x[i, 1] - sph.x_ref[i, 1]
-    ddz = x[i, 2] - sph.x_ref[i, 2]
+def _check(x, v, w, x_ref, i, ref_limit2, speed_limit2):
+    """(moved, bad, fast) flags of sphere i after its update.
+
+    Takes the arrays the caller wrote through, never the record (``sph.x``): inside a
+    prange body LLVM may serve a read through the record's pointer from before the write
+    through the local name, and which one it does depends on the CPU it compiles for
+    (a rebuild was missed on one target and taken on another, issue 37)."""
+    ddx = x[i, 0] - x_ref[i, 0]
+    ddy = x[i, 1] - x_ref[i, 1]
+    ddz = x[i, 2] - x_ref[i, 2]
     moved = 1 if ddx * ddx + ddy * ddy + ddz * ddz > ref_limit2 else 0
-    s = x[i, 0] + x[i, 1] + x[i, 2] + v[i, 0] + v[i, 1] + v[i, 2] + sph.w[i, 0] + sph.w[i, 1] + sph.w[i, 2]
+    s = x[i, 0] + x[i, 1] + x[i, 2] + v[i, 0] + v[i, 1] + v[i, 2] + w[i, 0] + w[i, 1] + w[i, 2]
     bad = 0 if math.isfinite(s) else 1
     fast = 1 if v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2] > speed_limit2 else 0
     return moved, bad, fast
@@ -881,6 +886,7 @@ def move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2):
     sw = sph.w
     sf = sph.f
     st = sph.t
+    x_ref = sph.x_ref
     n_moved = 0
     n_bad = 0
     n_fast = 0
@@ -961,7 +967,7 @@ def move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2):
             sw[m, 0] = wx
             sw[m, 1] = wy
             sw[m, 2] = wz
-            a, b, cc = _check(sph, m, ref_limit2, speed_limit2)
+            a, b, cc = _check(sx, sv, sw, x_ref, m, ref_limit2, speed_limit2)
             n_moved += a
             n_bad += b
             n_fast += cc
