@@ -120,7 +120,7 @@ class Ground:
         return cls((Layer(H, phi_deg, unit_weight, cohesion, unit_weight_sat),), **kw)
 
     def check_height(self, H: float) -> None:
-        total = sum(x.thickness for x in self.layers)
+        total = math.fsum(x.thickness for x in self.layers)
         if abs(total - H) > 1e-9 * max(H, 1.0):
             raise InvalidParameter("layers", total, f"thicknesses adding up to H = {H:g} m",
                                    "the layers must fill the wall height")
@@ -222,7 +222,7 @@ class DesignProfile:
         """Sum of the horizontal components of the named parts (all but the front water by
         default) [N/m]."""
         names = names or ("soil", "surcharge", "water")
-        return sum(self.parts[n].horizontal for n in names)
+        return math.fsum(self.parts[n].horizontal for n in names)
 
     def as_profile(self) -> Profile:
         """The record the theory table prints: sigma_h the total normal stress on the back
@@ -234,9 +234,9 @@ class DesignProfile:
         d = math.radians(self.direction_deg)
         omega = math.radians(self.extra["omega_deg"])
         names = ("soil", "surcharge", "water")
-        N = sum(self.parts[n].N for n in names)
+        N = math.fsum(self.parts[n].N for n in names)
         T = (self.parts["soil"].N + self.extra["N_q_uniform"]) * math.tan(d)
-        height = (sum(self.parts[n].N * self.parts[n].height for n in names if self.parts[n].N > 0) / N
+        height = (math.fsum(self.parts[n].N * self.parts[n].height for n in names if self.parts[n].N > 0) / N
                   if N > 0 else self.H / 3)
         K = self.K_layers[0]
         return Profile(method=self.method, z=self.z, sigma_h=self.sigma_total,

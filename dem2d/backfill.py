@@ -260,7 +260,7 @@ class BackfilledWall:
 
     def kinetic_energy(self) -> float:
         """Kinetic energy of the free grains [J/m]."""
-        return sum(0.5 * b.mass * b.velocity.length_squared + 0.5 * b.moment * b.angular_velocity ** 2
+        return math.fsum(0.5 * b.mass * b.velocity.length_squared + 0.5 * b.moment * b.angular_velocity ** 2
                    for b in self.bodies if b.body_type == pymunk.Body.DYNAMIC)
 
     def angles(self) -> np.ndarray:

@@ -186,7 +186,7 @@ class BiaxialTest:
                           into=(1.0, 0.0), first_type=t + 1)
         grains = Grains()
         self._add_grains(space, grains, cloud_, rng)
-        self.mass = float(sum(b.mass for b in grains.bodies))
+        self.mass = float(math.fsum(b.mass for b in grains.bodies))
         piston = self.mass * case.piston_mass_fraction
         right = panel_wall(space, "right", (w0, -m), (w0, big_h), 1, friction=0.0,
                            into=(0.0, 0.0), pivot=(w0, 0.0), first_type=t + 3, mass=piston)

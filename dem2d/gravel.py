@@ -385,7 +385,7 @@ class GravelBox:
 
     def kinetic_energy(self) -> float:
         """Total kinetic energy of the grains [J/m]."""
-        return sum(0.5 * b.mass * b.velocity.length_squared + 0.5 * b.moment * b.angular_velocity ** 2
+        return math.fsum(0.5 * b.mass * b.velocity.length_squared + 0.5 * b.moment * b.angular_velocity ** 2
                    for b in self.bodies)
 
     def settle(self, seconds: float, ke_per_grain: float = 0.0, check_s: float = 0.05) -> None:
@@ -414,7 +414,7 @@ class GravelBox:
 
     def weight(self) -> float:
         """Weight of the grains [N/m]."""
-        return G * sum(b.mass for b in self.bodies)
+        return G * math.fsum(b.mass for b in self.bodies)
 
     def positions(self) -> np.ndarray:
         """(n,2) grain centres [m]."""

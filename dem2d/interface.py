@@ -194,7 +194,7 @@ class InterfaceShear:
 
     def applied_normal(self) -> float:
         """sigma_n L plus the weight of grains and lid [N/m]: what the face must carry."""
-        return self.case.normal_stress_Pa * self.case.length_m + G * (sum(b.mass for b in self.bodies) + self.lid.mass)
+        return self.case.normal_stress_Pa * self.case.length_m + G * (math.fsum(b.mass for b in self.bodies) + self.lid.mass)
 
 
 def _face_impulse(face: pymunk.Body) -> np.ndarray:

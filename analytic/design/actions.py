@@ -182,6 +182,6 @@ def passive_force(case: DesignCase, materials: dict) -> Force | None:
         return None
     soil = Backfill(f.gamma / materials["gamma"], design_angle(f.phi, materials["phi"]), f.c / materials["c"])
     t = passive_resistance(soil, depth, 0.0)
-    Pp = m.passive_mobilisation * sum(p.P for p in t.parts)
-    y = sum(p.P * p.y for p in t.parts) / sum(p.P for p in t.parts) - key
+    Pp = m.passive_mobilisation * math.fsum(p.P for p in t.parts)
+    y = math.fsum(p.P * p.y for p in t.parts) / math.fsum(p.P for p in t.parts) - key
     return Force("passive resistance", "P", "geotechnical", -Pp, 0.0, 0.0, y)

@@ -134,11 +134,11 @@ class Thrust:
 
     @property
     def Ph(self) -> float:
-        return sum(p.Ph for p in self.parts)
+        return math.fsum(p.Ph for p in self.parts)
 
     @property
     def Pv(self) -> float:
-        return sum(p.Pv for p in self.parts)
+        return math.fsum(p.Pv for p in self.parts)
 
 
 def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float = 0.0,
@@ -220,7 +220,7 @@ def _seismic_increment(fill: Backfill, back: WallBack, K: float, static: list, d
                                f"{f'{angle_factor:.4g}' if angle_factor != 1 else ''}] = [0, {lim:.4g}]",
                                "no active Mononobe-Okabe wedge")
     ratio = (1 - kv) * K_AE / K - 1.0
-    total = sum(p.P for p in static if p.kind in ("soil", "surcharge"))
+    total = math.fsum(p.P for p in static if p.kind in ("soil", "surcharge"))
     return _part(back, "seismic increment", "seismic", ratio * total, math.cos(dl + om), math.sin(dl + om), inc)
 
 

@@ -8,6 +8,8 @@ or a union of convex parts).
 
 from __future__ import annotations
 
+import math
+
 Point = tuple[float, float]
 
 
@@ -27,7 +29,7 @@ def area_centroid(poly: list[Point]) -> tuple[float, float, float]:
     if abs(a) < 1e-14:
         xs = [p[0] for p in poly] or [0.0]
         ys = [p[1] for p in poly] or [0.0]
-        return 0.0, sum(xs) / len(xs), sum(ys) / len(ys)
+        return 0.0, math.fsum(xs) / len(xs), math.fsum(ys) / len(ys)
     return abs(a), cx / (6 * a), cy / (6 * a)
 
 
