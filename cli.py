@@ -11,7 +11,7 @@ import json
 import os
 import sys
 
-from analytic.errors import InvalidParameter
+import reproducibility
 
 EXIT_BAD_INPUT = 2
 
@@ -118,6 +118,8 @@ def _cmd_theory(args) -> int:
 def _read_toml(name: str, path: str) -> dict:
     """A TOML file as a dict, or InvalidParameter naming the option (one line, exit 2)."""
     import tomllib
+
+    from analytic.errors import InvalidParameter
     try:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
@@ -151,6 +153,7 @@ def _add_dsm(sub):
 
 
 def _cmd_dsm(args) -> int:
+    from analytic.errors import InvalidParameter
     from analytic.slices import MODES, mode_case, solve
     from studies.report import dsm_json, dsm_text
 
@@ -303,6 +306,8 @@ def _verb_group(sub, verb: str):
 
 def _argparse_type(parse, name: str):
     """A study option's parser as an argparse type (its one-line error kept)."""
+    from analytic.errors import InvalidParameter
+
     def wrapped(text: str):
         try:
             return parse(text)
@@ -407,6 +412,7 @@ def _setting_sources(cmd, args) -> dict[str, str]:
 
 def _cmd_study(cmd, args) -> int:
     import studies.runner as runner
+    from analytic.errors import InvalidParameter
     from studies.runner import finished_result
 
     runner.current_folder = None          # this command's folder, not an earlier one's
@@ -441,6 +447,7 @@ def _cmd_study(cmd, args) -> int:
 
 def _cmd_seeds(cmd, args) -> int:
     """``--seeds``: the command once per seed on Dask, the seeds report (studies/seeds.py)."""
+    from analytic.errors import InvalidParameter
     from studies.runfolder import to_plain
     from studies.seeds import run_seeds, seeds_text
 
@@ -612,6 +619,35 @@ def _cmd_bench_dem3d(args) -> int:
     return 0
 
 
+def _add_env(sub):
+    p = sub.add_parser("env", help="the reproducibility mode: same bits where, and how to get it in Python",
+                       description="Which mode this command runs in (portable unless "
+                                   "WALLSIM_REPRODUCIBILITY=native) and what each library was found doing. "
+                                   "--exports prints the settings that put your own Python (a notebook) in "
+                                   "the portable mode: eval \"$(wallsim env --exports)\" before starting it.")
+    p.add_argument("--exports", action="store_true", help="print the portable settings as shell export lines")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=_cmd_env)
+
+
+def _cmd_env(args) -> int:
+    if args.exports:
+        print(reproducibility.shell_exports())
+        return 0
+    mode = reproducibility.describe()
+    if args.json:
+        print(json.dumps(mode, indent=2))
+        return 0
+    blas = mode["openblas"]
+    simd = mode["numpy_simd"]
+    print(f"mode: {mode['mode']}: the same bits {mode['same_bits']}")
+    print(f"  libm variant: {mode['libm']}; numpy SIMD: {simd if isinstance(simd, str) else ', '.join(simd)}; "
+          f"OpenBLAS core: {blas['OPENBLAS_CORETYPE'] or 'by CPU'}, threads: {blas['OPENBLAS_NUM_THREADS'] or 'all'}")
+    print(f"  CPU: {mode['cpu']}")
+    print('  your own Python in the portable mode: eval "$(wallsim env --exports)", then start it')
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="wallsim", description="Earth pressure on retaining walls: theory and DEM.")
     parser.add_argument("--version", action="version", version=f"wallsim {_version()}")
@@ -624,6 +660,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sweep(sub)
     _add_keys(sub)
     _add_bench(sub)
+    _add_env(sub)
     return parser
 
 
@@ -640,6 +677,8 @@ EXIT_BROKEN_PIPE = 141        # 128 + SIGPIPE
 
 
 def main(argv: list[str] | None = None) -> int:
+    from analytic.errors import InvalidParameter
+
     interrupts = _watch_interrupts()
     try:
         args = build_parser().parse_args(argv)
@@ -725,7 +764,16 @@ def entry() -> None:
     removal scans chipmunk's whole cached-contact table (never shrunk), so the full-size
     Khosravi fill (63,548 disks) took ~4 min of CPU to exit after its report was written
     (40k disks in contact: 60 s). Every file and recording is written and closed by
-    then (viz.recorder flushes and disconnects), so nothing is lost by skipping it."""
+    then (viz.recorder flushes and disconnects), so nothing is lost by skipping it.
+
+    First of all, the process re-starts itself in the portable mode unless
+    WALLSIM_REPRODUCIBILITY=native (reproducibility.py): the settings act only in a
+    process that starts with them."""
+    try:
+        reproducibility.enter_requested_mode()
+    except ValueError as err:
+        sys.stderr.write(f"wallsim: error: {err}\n")
+        os._exit(EXIT_BAD_INPUT)
     code = main()
     try:
         sys.stdout.flush()

@@ -32,6 +32,8 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
+import reproducibility
+
 from .store import atomic_write
 
 
@@ -175,6 +177,7 @@ class RunFolder:
             "case": self.case,
             "seed": self.seed,
             "versions": package_versions(),
+            "reproducibility": reproducibility.describe(),
             "git": self.git,
             "host": socket.gethostname(),
             "platform": platform.platform(),

@@ -10,6 +10,8 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from pathlib import Path
 
+import reproducibility
+
 from .runfolder import RunFolder
 
 #: the run folder of the command in progress in this process (what an interrupt and the
@@ -81,7 +83,9 @@ def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int
 
 def finish(folder: RunFolder, result: dict, **manifest) -> None:
     """result.json (what ``--json`` prints) and the manifest (provenance), written last
-    so a folder with a result.json holds a finished run."""
+    so a folder with a result.json holds a finished run. The result records the
+    reproducibility mode that made it (``reproducibility.describe``)."""
+    result["reproducibility"] = reproducibility.describe()
     folder.write_json("result.json", result)
     folder.write_manifest(**manifest)
 

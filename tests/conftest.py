@@ -9,7 +9,28 @@ from pathlib import Path
 
 import pytest
 
+import reproducibility
+
 DATA = Path(__file__).parent / "data"
+
+
+def pytest_configure(config):
+    """The suite runs in the portable mode (reproducibility.py): the pinned numbers, and
+    every chaotic trajectory a physics test reads, are then the same on any x86-64 CPU.
+    A pytest started without the mode's settings re-starts itself with them, once (its
+    output capture is stopped first, so the new process writes to the terminal).
+    WALLSIM_REPRODUCIBILITY=native keeps the native mode; the pin tests then skip."""
+    if reproducibility.requested_mode() != "portable" or reproducibility.has_portable_settings():
+        return
+    capture = config.pluginmanager.getplugin("capturemanager")
+    if capture is not None:
+        capture.stop_global_capturing()
+    reproducibility.enter_requested_mode()
+
+
+portable_only = pytest.mark.skipif(
+    reproducibility.requested_mode() != "portable",
+    reason="pins are recorded in the portable mode; this suite runs native (WALLSIM_REPRODUCIBILITY=native)")
 
 
 def load_reference(name: str) -> dict:

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+import reproducibility
+
 from ..runfolder import git_revision, package_versions
 from .compare import ASSUMPTIONS, compare_heap, slope_text
 from .model import HeapCase
@@ -58,7 +60,7 @@ def report_json(case: HeapCase, runs: list[dict]) -> dict:
             "base_stress_over_rho_g_1mn_H": [r["base_stress_over_rho_g_1mn_H"] for r in runs],
             "case": dataclasses.asdict(case) | {"seed": None}, "assumptions": ASSUMPTIONS,
             "run_folders": [r["run_folder"] for r in runs],
-            "git": _started_at(runs), "versions": package_versions(),
+            "git": _started_at(runs), "versions": package_versions(), "reproducibility": reproducibility.describe(),
             "source": "Nadukuru & Michalowski (2012), Fig. 1 and its description (section on arching)"}
     return rep
 

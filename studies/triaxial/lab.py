@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import dem3d
+import reproducibility
+
 from analytic.inputs import require_number
 
 from ..store import atomic_write, content_key
@@ -292,7 +294,7 @@ def calibrate_triaxial(case, setup: TriaxialSetup, *, particles: int, root, prog
         "confining_kPa": setup.confining / 1e3, "strain_rate_per_s": setup.strain_rate,
         "compaction_friction": mu_compact_of(setup, case.specimen), "seed": case.seed,
         "recipe": dataclasses.asdict(case.specimen), "steps": res.steps, "wall_time_s": time.perf_counter() - t0,
-        "versions": package_versions(),
+        "versions": package_versions(), "reproducibility": reproducibility.describe(),
         "curve": {"axial_strain": res.axial_strain[::10].tolist(), "volumetric_strain": res.volumetric_strain[::10].tolist(),
                   "sigma_1_kPa": (res.sigma_1[::10] / 1e3).tolist(), "sigma_3_kPa": (res.sigma_3[::10] / 1e3).tolist()},
         "paper": {"phi_deg": 39.0, "source": "Nadukuru & Michalowski (2012): cylinder 1.2 m, 8,200 particles, 200 kPa"},

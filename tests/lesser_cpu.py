@@ -1,0 +1,42 @@
+"""Check the bit-for-bit pins in this process and print every one that differs.
+
+``tests/test_lesser_cpu.py`` runs it in a child process whose libraries see a lesser
+CPU than the machine's (numba compiling for the baseline x86-64, glibc's libm without
+AVX); ``python -m tests.lesser_cpu`` runs it as the process finds itself. Exit 0 when
+every pin holds, 1 otherwise (one line per difference on stdout).
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+
+#: the pins checked: every dem3d state hash, and the 3D study whose run passes through
+#: the most kernels (clumps, segmented walls, settling, the wall movement)
+STUDIES = ("nadukuru",)
+
+
+def differences() -> list[str]:
+    from tests.dem3d.test_pinning import CASES, PINNED, state_hash
+    from tests.studies.test_pinned import study_changes
+
+    out = []
+    for name, build in CASES.items():
+        got = state_hash(build())
+        if got != PINNED[name]:
+            out.append(f"dem3d {name}: {PINNED[name]} -> {got}")
+    for study in STUDIES:
+        with tempfile.TemporaryDirectory() as tmp:
+            out += [f"{study} {line}" for line in study_changes(study, tmp)]
+    return out
+
+
+def main() -> int:
+    diff = differences()
+    for line in diff:
+        print(line)
+    return 1 if diff else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
