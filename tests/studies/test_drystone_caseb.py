@@ -96,8 +96,13 @@ def test_too_narrow_wall_fails_by_its_limit_equilibrium_height(tmp_path):
 def test_recording_holds_the_grains_blocks_and_failure_velocities(tmp_path):
     """The case-B recording (issue 24: blocks, grains, force chains, block velocities at
     failure), on the too-narrow wall: every grain and block of the result is in the last
-    frame, the fill height series ends at the DEM's critical height, and the wall moves at
-    failure (its kinetic energy passed 0.1 J/m, S-OET's criterion, so some block moves)."""
+    frame, every block has a finite velocity there, the fill height series ends at the
+    DEM's critical height, and the wall moved at failure: the crest is farther out in the
+    failure frame than in any frame before. That holds for any trajectory: a stage that
+    ends standing has its crest short of the runaway limit (2 % of h), and failure takes
+    the crest past it or keeps the blocks above 0.1 J/m (S-OET's criterion) for ten
+    readings of 0.1 s. (How fast a block moves at the last instant does not: 0.13 mm/s
+    on one CPU, 38 mm/s on another, before the portable mode.)"""
     import numpy as np
 
     from viz import paths as P
@@ -112,9 +117,11 @@ def test_recording_holds_the_grains_blocks_and_failure_velocities(tmp_path):
     assert len(grains[-1]) == res["particles"]["grains"] and len(blocks[-1]) == res["particles"]["blocks"]
     _, vel = readback.read_column(rrd, "/" + P.BLOCK_VELOCITY, "Arrows2D:vectors")
     assert len(vel) == 1 and len(vel[0]) == res["particles"]["blocks"]
-    assert np.abs(np.asarray(vel[0], float)).max() > 1e-3          # 0.5 s x v: a block moving > 2 mm/s
+    assert np.isfinite(np.asarray(vel[0], float)).all()
     _, height = readback.read_scalars(rrd, "/metrics/backfill_height_m")
     assert height[-1] == pytest.approx(res["critical_height_m"])
+    _, crest = readback.read_scalars(rrd, "/metrics/crest_displacement_mm")
+    assert crest[-1] > max(crest[:-2], default=-np.inf)     # the failure frame comes twice: stage, velocities
 
 
 def test_validate_case_b_writes_both_seeds_keeps_case_a_and_reuses_runs(tmp_path):

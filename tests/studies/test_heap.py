@@ -35,11 +35,21 @@ def test_centre_stress_falls_as_the_base_subsides(small_heap):
     assert c1 / run.sigma_after.mean() < c0 / run.sigma_before.mean()
 
 
-def test_base_carries_the_heap_weight(small_heap):
-    """Statics: at rest on the base (no side walls, periodic width) the base's normal
-    reaction equals the weight of the grains on it (to the residual motion, < 2 %)."""
-    _, run = small_heap
-    assert run.base_force_before_N / run.weight_N == pytest.approx(1.0, abs=0.02)
+def test_base_carries_the_weight_of_the_settled_fill():
+    """Statics, on the base-stress reading the heap's profiles come from: the rained fill,
+    settled (PFC ratio < 5e-3) between the frictionless end walls of a periodic slab,
+    rests on the base alone, so the base's normal reaction is the fill's weight (to the
+    residual unbalanced force, < 1 %). Asked of the fill, not the small heap: the heap's
+    grains keep rolling down its flanks (rms 17-22 mm/s after the 1 s arrest), and the
+    local damping on them then carries a share of the weight (1-2 %) that depends on the
+    trajectory."""
+    from studies.heap.model import StageLog, averaged_base_stress, base_ids, heap_weight, rain
+
+    case = HeapCase(**SMALL)
+    sim = rain(case, StageLog())
+    sigma = averaged_base_stress(sim, case.average_steps)
+    base = float(np.sum(sigma * sim.walls.areas()[base_ids(sim)]))
+    assert base / heap_weight(case, sim) == pytest.approx(1.0, abs=0.01)
 
 
 def test_subsidence_reaches_the_papers_delta(small_heap):
