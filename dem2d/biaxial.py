@@ -369,7 +369,7 @@ def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialC
     e3 = ev - eps
     gam = eps - e3
     if np.sum(last) > 3:
-        dv = np.polyfit(gam[last], ev[last], 1)[0]
+        dv = _slope(gam[last], ev[last])
         psi = math.degrees(math.asin(float(np.clip(-dv, -1, 1))))
     else:
         psi = float("nan")
@@ -411,6 +411,14 @@ def strain_field(x0: np.ndarray, x1: np.ndarray, cell: float):
         gam.append(math.hypot((e[0, 0] - e[1, 1]) / 2.0, e[0, 1]))
         centres.append(x0[idx].mean(0))
     return np.array(centres), np.array(gam)
+
+
+def _slope(x: np.ndarray, y: np.ndarray) -> float:
+    """Least-squares slope of y on x, sum((x - mean x)(y - mean y)) / sum((x - mean x)^2),
+    in numpy's own sums: np.polyfit's LAPACK call ends in other last bits with the
+    OpenBLAS of another numpy release (2.4 vs 2.5), which the pins would see."""
+    dx = x - np.mean(x)
+    return float(np.sum(dx * (y - np.mean(y))) / np.sum(dx * dx))
 
 
 def shear_band_angle(x0: np.ndarray, x1: np.ndarray, cell: float) -> float:
