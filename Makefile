@@ -12,7 +12,8 @@ $(STAMP): pyproject.toml scripts/make_venv.sh
 demo: $(STAMP)
 	$(VENV)/bin/wallsim compare nadukuru --mode T --wall rough --particles 3000
 
+# one pytest worker per core, a test file per worker at a time (module fixtures built once)
 test: $(STAMP)
-	$(VENV)/bin/python -m pytest -q
+	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile
 
 .PHONY: demo test

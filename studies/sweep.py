@@ -327,9 +327,12 @@ def dask_client(workers: int | None = None, scheduler: str | None = None):
     n = workers or os.cpu_count() or 1
     with _sigint_held():
         # ":0": the scheduler's HTTP server on a free port (None still tries 8787 and warns
-        # when another Dask cluster on the machine holds it)
+        # when another Dask cluster on the machine holds it). Logs at CRITICAL only: a point's
+        # failure is reported in sweep.json; what Dask logs at ERROR is its own (a worker's
+        # heartbeat to the scheduler that Ctrl-C is closing, on a loaded machine: 31 lines
+        # after the one the interrupt promises)
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=logging.ERROR, env={"NUMBA_NUM_THREADS": "1"})
+                               silence_logs=logging.CRITICAL, env={"NUMBA_NUM_THREADS": "1"})
     with cluster, Client(cluster) as client:
         try:
             yield client

@@ -20,12 +20,23 @@ def pytest_configure(config):
     A pytest started without the mode's settings re-starts itself with them, once (its
     output capture is stopped first, so the new process writes to the terminal).
     WALLSIM_REPRODUCIBILITY=native keeps the native mode; the pin tests then skip."""
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        _one_numba_thread()
     if reproducibility.requested_mode() != "portable" or reproducibility.has_portable_settings():
         return
     capture = config.pluginmanager.getplugin("capturemanager")
     if capture is not None:
         capture.stop_global_capturing()
     reproducibility.enter_requested_mode()
+
+
+def _one_numba_thread() -> None:
+    """In a pytest-xdist worker (``make test`` runs two, one per core) numba runs its
+    parallel loops on one thread by default: two workers with two threads each would
+    wait at every parallel loop for a core. A test that asks for more threads still gets
+    them (NUMBA_NUM_THREADS is untouched), e.g. the thread-count determinism checks."""
+    import numba
+    numba.set_num_threads(1)
 
 
 portable_only = pytest.mark.skipif(

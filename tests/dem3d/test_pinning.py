@@ -6,7 +6,7 @@ panel loads, clump poses). Any change to the arithmetic of the single-material p
 even in the last bit or the sign of a zero, changes a hash.
 
 Recorded in the portable mode (reproducibility.py): they hold on any x86-64 CPU
-(tests/test_lesser_cpu.py checks them with numba on the baseline target and glibc's
+(tests/dem3d/test_lesser_cpu.py checks them with numba on the baseline target and glibc's
 SSE2 libm) and on Python 3.11 as on 3.12. Re-record (``python tests/dem3d/test_pinning.py``
 in the portable mode: ``eval "$(wallsim env --exports)"``) only once a change's cause is
 known. Last re-recorded when the clump check stopped reading stale positions (9f6519e)

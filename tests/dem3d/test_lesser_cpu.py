@@ -19,7 +19,7 @@ import pytest
 import reproducibility
 from tests.conftest import portable_only
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def lesser_cpu_environ() -> dict:
