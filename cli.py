@@ -246,7 +246,12 @@ def _length_or_inf(text: str) -> float:
 def _add_bearing(sub):
     p = sub.add_parser("bearing", help="bearing resistance of a footing (EN 1997-1 Annex D or Vesic)",
                        description="Drained bearing resistance under an inclined, eccentric load. "
-                                   "V and H per metre for a strip (L = inf), totals otherwise.")
+                                   "V and H per metre for a strip (L = inf), totals otherwise. "
+                                   "Range of validity: the inclination factors stay in [0, 1] up to "
+                                   "H_lim = (V + A' c' cot phi') (1 - Nq^(-1/m)) for c' > 0 (where i_c reaches "
+                                   "0), H_lim = V for c' = 0 (where i_q does); at H >= H_lim the bearing fails, "
+                                   "said with H_lim, never a negative resistance. No depth factors (Annex D "
+                                   "has none); base inclination factors 1 (horizontal base).")
     p.add_argument("--phi", type=_number("phi", 0, 50, hi_open=False, unit="deg"), required=True,
                    help="friction angle [deg], (0, 50]")
     p.add_argument("--c", type=_number("c", 0, None, lo_open=False, unit="kPa"), default=0.0, help="c' [kPa] (0)")
@@ -276,7 +281,11 @@ def _cmd_bearing(args) -> int:
         print(json.dumps(out, indent=2))
         return 0
     unit = "kN/m" if b.L_eff == float("inf") else "kN"
-    print(f"bearing ({b.method}): q_ult = {b.q_ult:.1f} kPa, R = {b.R:.1f} {unit}, B' = {b.B_eff:.3f} m")
+    if b.fails:
+        print(f"{b.fails}; q_ult = R = 0, B' = {b.B_eff:.3f} m")
+    else:
+        print(f"bearing ({b.method}): q_ult = {b.q_ult:.1f} kPa, R = {b.R:.1f} {unit}, B' = {b.B_eff:.3f} m "
+              f"(valid up to H_lim = {b.H_limit:.4g} {unit})")
     print("  " + ", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k}: {v}" for k, v in b.factors.items()))
     return 0
 

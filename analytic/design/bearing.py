@@ -15,6 +15,13 @@ Conventions: effective width B' = B - 2 e (Meyerhof), L' = L - 2 e_L; a strip (L
 has B'/L' = 0 and per-metre V, H, R. Base inclination factors b = 1 (horizontal base).
 Depth factors are NOT applied: Annex D has none (other methods' depth factors are often
 borrowed; they are not used here). Units: kPa, kN (or kN/m), m, degrees.
+
+Range of validity: the inclination factors are meant in [0, 1]. Past a limiting
+horizontal load H_lim they would turn negative (and with them q_ult and R), so there the
+bearing fails instead, with H_lim and the reason (``Bearing.fails``), and q_ult = R = 0:
+* drained, c' > 0: i_c = 0 at i_q = 1/N_q, H_lim = (V + A' c' cot phi') (1 - N_q^(-1/m));
+* drained, c' = 0: i_q = 0 at H_lim = V (the c term is absent);
+* undrained: i_c's root is real up to H_lim = A' c_u (beyond, the base slides).
 """
 
 from __future__ import annotations
@@ -29,7 +36,9 @@ from ..inputs import require_number
 @dataclass(frozen=True)
 class Bearing:
     """q_ult [kPa], R = q_ult A' [kN, or kN/m for a strip], B', L' [m] (L' = inf for a
-    strip), the factors used and the method."""
+    strip), the factors used and the method; H_limit [kN or kN/m], the horizontal load at
+    which an inclination factor reaches 0, and ``fails``: the one-line reason when
+    H >= H_limit (then q_ult = R = 0), else None."""
 
     q_ult: float
     R: float
@@ -37,6 +46,8 @@ class Bearing:
     L_eff: float
     method: str
     factors: dict = field(default_factory=dict)
+    H_limit: float = math.inf
+    fails: str | None = None      # why the bearing fails (H >= H_limit), else None
 
 
 def _effective(B: float, L: float, e: float, e_L: float) -> tuple[float, float, float, float]:
@@ -80,24 +91,44 @@ def bearing_resistance(*, phi: float, c: float, gamma: float, q: float, B: float
         Ng = 2 * (Nq + 1) * t
         sq, sg, sc = 1 + r * t, 1 - 0.4 * r, 1 + r * Nq / Nc
     m = (2 + r) / (1 + r)
-    base = max(1 - H / (V + A * c / t), 0.0)
+    carried = V + A * c / t                      # V + A' c' cot phi'
+    H_lim = carried * (1 - Nq ** (-1 / m)) if c > 0 else V
+    f = {"Nq": Nq, "Nc": Nc, "Ngamma": Ng, "sq": sq, "sc": sc, "sgamma": sg, "m": m, "b": 1.0,
+         "depth_factors": "none (not in EN 1997-1 Annex D)"}
+    unit = "kN/m" if math.isinf(L) else "kN"
+    if H >= H_lim:
+        where = ("(V + A' c' cot phi') (1 - N_q^(-1/m)), where i_c reaches 0" if c > 0 else "V, where i_q reaches 0")
+        reason = (f"bearing fails: H = {H:.4g} {unit} >= H_lim = {H_lim:.4g} {unit} = {where}: the load leans "
+                  f"beyond what the base can carry ({'EN 1997-1 D.4' if method == 'ec7' else 'Vesic 1975'})")
+        return Bearing(0.0, 0.0, B_eff, L_eff, method, f | {"iq": 0.0, "ic": 0.0, "igamma": 0.0}, H_lim, reason)
+    base = 1 - H / carried
     iq, ig = base ** m, base ** (m + 1)
     ic = iq - (1 - iq) / (Nc * t)
+    if c == 0:
+        ic = max(ic, 0.0)         # no cohesion term to scale: below i_q = 1/N_q D.4's i_c means nothing
     q_ult = c * Nc * sc * ic + q * Nq * sq * iq + 0.5 * gamma * B_eff * Ng * sg * ig
-    f = {"Nq": Nq, "Nc": Nc, "Ngamma": Ng, "sq": sq, "sc": sc, "sgamma": sg, "iq": iq, "ic": ic,
-         "igamma": ig, "m": m, "b": 1.0, "depth_factors": "none (not in EN 1997-1 Annex D)"}
-    return Bearing(q_ult, q_ult * A, B_eff, L_eff, method, f)
+    f |= {"iq": iq, "ic": ic, "igamma": ig}
+    return Bearing(q_ult, q_ult * A, B_eff, L_eff, method, f, H_lim)
 
 
 def bearing_undrained(*, cu: float, q: float, B: float, V: float, H: float = 0.0,
                       L: float = math.inf, e: float = 0.0, e_L: float = 0.0) -> Bearing:
     """Undrained bearing resistance, EN 1997-1 Annex D.3 (see the module docstring);
-    cu [kPa] > 0. For H > A' cu (the footing slides first) ic is taken at its limit 0.5."""
+    cu [kPa] > 0. For H > A' cu the base slides before it can bear: the bearing fails
+    (``Bearing.fails``, q_ult = R = 0)."""
     require_number("cu", cu, 0.0, None, unit="kPa")
+    require_number("q", q, 0.0, None, lo_open=False, unit="kPa")
+    require_number("V", V, 0.0, None, unit="kN")
+    require_number("H", H, 0.0, None, lo_open=False, unit="kN")
     B_eff, L_eff, A, r = _effective(B, L, e, e_L)
     sc = 1 + 0.2 * r
-    ic = 0.5 * (1 + math.sqrt(max(1 - H / (A * cu), 0.0)))
+    H_lim = A * cu
+    f = {"Nc": math.pi + 2, "sc": sc, "b": 1.0, "depth_factors": "none (not in EN 1997-1 Annex D)"}
+    if H > H_lim:
+        unit = "kN/m" if math.isinf(L) else "kN"
+        reason = (f"bearing fails: H = {H:.4g} {unit} > H_lim = {H_lim:.4g} {unit} = A' c_u, where i_c has no "
+                  f"real value: the base slides before it can bear (EN 1997-1 D.3)")
+        return Bearing(0.0, 0.0, B_eff, L_eff, "ec7-undrained", f | {"ic": 0.0}, H_lim, reason)
+    ic = 0.5 * (1 + math.sqrt(1 - H / H_lim))
     q_ult = (math.pi + 2) * cu * sc * ic + q
-    return Bearing(q_ult, q_ult * A, B_eff, L_eff, "ec7-undrained",
-                   {"Nc": math.pi + 2, "sc": sc, "ic": ic, "b": 1.0,
-                    "depth_factors": "none (not in EN 1997-1 Annex D)"})
+    return Bearing(q_ult, q_ult * A, B_eff, L_eff, "ec7-undrained", f | {"ic": ic}, H_lim)

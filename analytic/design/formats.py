@@ -82,18 +82,22 @@ def _bearing(case: DesignCase, combo: Combination, V: float, H: float, e: float)
     f, m, r = case.foundation, combo.materials, combo.resistances
     B = case.wall.B
     out = []
-    if V <= 0 or abs(e) >= B / 2:
-        return [make_check("bearing", max(V, 1.0), 0.0, "resultant outside the base")], 0.0, 0.0
+    if V <= 0:
+        return [make_check("bearing", 1.0, 0.0, f"bearing fails: V_d = {V:.4g} kN/m, no downward load on the "
+                                                 f"base")], 0.0, 0.0
+    if abs(e) >= B / 2:
+        return [make_check("bearing", V, 0.0, f"bearing fails: the resultant is outside the base, |e| = "
+                                              f"{abs(e):.4g} m >= B/2 = {B / 2:.4g} m")], 0.0, 0.0
     g, hw = f.gamma / m["gamma"], case.water.front
     q0 = g * f.embedment - GAMMA_W * min(hw, f.embedment)        # effective overburden q'
     wet = hw > 0 or (case.water.behind > 0 and case.wall.kind != "blocks")
     g_eff = g - GAMMA_W if wet else g                             # submerged below a flooded base
     b = bearing_resistance(phi=design_angle(f.phi, m["phi"]), c=f.c / m["c"], gamma=max(g_eff, 1e-9),
                            q=max(q0, 0.0), B=B, V=V, H=abs(H), e=e)
-    out.append(make_check("bearing", V, b.R / r["bearing"], f"EN 1997-1 D.4, B' = {b.B_eff:.3f} m"))
+    out.append(make_check("bearing", V, b.R / r["bearing"], b.fails or f"EN 1997-1 D.4, B' = {b.B_eff:.3f} m"))
     if f.cu is not None:
-        u = bearing_undrained(cu=f.cu / m["cu"], q=q0, B=B, V=V, H=abs(H), e=e)
-        out.append(make_check("bearing (undrained)", V, u.R / r["bearing"], "EN 1997-1 D.3"))
+        u = bearing_undrained(cu=f.cu / m["cu"], q=max(q0, 0.0), B=B, V=V, H=abs(H), e=e)
+        out.append(make_check("bearing (undrained)", V, u.R / r["bearing"], u.fails or "EN 1997-1 D.3"))
     return out, b.q_ult, b.B_eff
 
 

@@ -138,6 +138,9 @@ def design_text(case: DesignCase, result: FormatResult) -> str:
              f"  {'check':22s} {'E_d':>10s} {'R_d':>10s} {'util.':>7s}  combination"]
     for k, (label, c) in result.worst.items():
         lines.append(f"  {k:22s} {c.E_d:10.2f} {c.R_d:10.2f} {c.utilisation:7.3f}  {label}")
+    for k, (label, c) in result.worst.items():
+        if c.R_d <= 0 < c.E_d and c.note:        # no resistance at all: say why
+            lines.append(f"  {c.note} ({label})" if c.note.startswith(k) else f"  {k} ({label}): {c.note}")
     if result.format == "fs":
         fs = factors_of_safety(result)
         lines.append("  factors of safety: " + ", ".join(
@@ -156,4 +159,4 @@ def bearing_json(b) -> dict:
     """JSON of ``wallsim bearing``."""
     f = {k: (_num(v) if isinstance(v, float) else v) for k, v in b.factors.items()}
     return {"q_ult_kPa": b.q_ult, "R_kN": b.R, "B_eff_m": b.B_eff, "L_eff_m": _num(b.L_eff),
-            "method": b.method, "factors": f}
+            "method": b.method, "H_limit_kN": _num(b.H_limit), "fails": b.fails, "factors": f}
