@@ -212,8 +212,10 @@ def _cmd_design(args) -> int:
     case = case_from_dict(_read_toml("WALL.toml", args.wall_file))
     factors = Factors.from_dict(_read_toml("--factors", args.factors)) if args.factors else load_factors()
     fmts = ["DA1", "DA2", "DA3", "EQU", "fs", "seismic"] if args.format == "all" else [args.format]
-    if args.format == "all" and case.seismic.kh == 0:
+    skipped = {}
+    if args.format == "all" and not case.seismic.given:
         fmts.remove("seismic")
+        skipped["seismic"] = "no [seismic] table (alpha, S, r; EN 1998-5 7.3.2.2)"
     if args.solve:
         case = solve(case, factors, fmts, args.solve)
     results = {f: verify(case, factors, f) for f in fmts}
@@ -222,10 +224,13 @@ def _cmd_design(args) -> int:
         print(f"solved {args.solve} = {_solved(case.wall, args.solve):.4f} m (B = {case.wall.B:.4f} m); "
               f"governing: {check} ({combo}), utilisation {u:.4f}", file=sys.stderr)
     out = {f: design_json(case, r, factors.fs if f == "fs" else None) for f, r in results.items()}
+    ran = "formats run: " + ", ".join(fmts) + "".join(f"; {f} skipped: {why}" for f, why in skipped.items())
     if args.json:
-        print(json.dumps(out[fmts[0]] if len(fmts) == 1 else out, indent=2))
+        print(json.dumps(out[fmts[0]] if len(fmts) == 1 else out | {"skipped_formats": skipped}, indent=2))
     else:
         print("\n\n".join(design_text(case, r) for r in results.values()))
+        if args.format == "all":
+            print(ran)
     if args.plot:
         from viz.figures import plot_wall_design
         plot_wall_design(case, results[fmts[0]], args.plot)

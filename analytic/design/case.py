@@ -124,7 +124,9 @@ class Seismic:
     S soil factor, r from Table 7.1 (1 to 2: how much displacement the wall accepts),
     vertical_ratio = a_vg/a_g; increment_height: where the dynamic increment acts, as a
     fraction of the back's height (0.5 = mid-height); fill_permeability: 'impervious'
-    (EN 1998-5 E.6) or 'pervious' (E.7, k > 5e-4 m/s), needed with water behind."""
+    (EN 1998-5 E.6) or 'pervious' (E.7, k > 5e-4 m/s), needed with water behind.
+    given: the case has a seismic situation (a [seismic] table); the default of a case
+    without one is ``NO_SEISMIC``, which the seismic format refuses."""
 
     alpha: float = 0.0
     S: float = 1.0
@@ -132,6 +134,7 @@ class Seismic:
     vertical_ratio: float = 0.9
     increment_height: float = 0.5
     fill_permeability: str | None = None
+    given: bool = True
 
     def __post_init__(self):
         require_number("seismic.alpha", self.alpha, 0.0, 1.0, lo_open=False)
@@ -153,6 +156,13 @@ class Seismic:
         return (0.5 if self.vertical_ratio > 0.6 else 0.33) * self.kh
 
 
+#: a case without a [seismic] table: no earthquake (k_h = 0), and no seismic check
+NO_SEISMIC = Seismic(given=False)
+
+#: the widest base accepted, as a multiple of the wall's height (practice: 0.4-0.8)
+MAX_BASE_OVER_HEIGHT = 10.0
+
+
 @dataclass(frozen=True)
 class DesignCase:
     """A wall (walls.py / blocks.py), its backfill (None: a block wall loaded by water
@@ -164,7 +174,7 @@ class DesignCase:
     loads: Loads = Loads()
     water: Water = Water()
     method: Method = Method()
-    seismic: Seismic = Seismic()
+    seismic: Seismic = NO_SEISMIC
 
     def __post_init__(self):
         kind = getattr(self.wall, "kind", "")
@@ -172,6 +182,30 @@ class DesignCase:
             raise InvalidParameter("backfill", "missing", "a [backfill] table for a cantilever or gravity wall")
         if kind != "blocks" and self.foundation is None:
             raise InvalidParameter("foundation", "missing", "a [foundation] table")
+        self._check_proportions()
+
+    def _check_proportions(self) -> None:
+        """Dimensions that no wall has, refused before anything is computed: a base more
+        than ``MAX_BASE_OVER_HEIGHT`` times the height (a length typed in mm, e.g. heel =
+        3000), an embedment as deep as the wall, water above its top, fill layers thicker
+        than the retained height."""
+        H, B = self.wall.H, self.wall.B
+        if B > MAX_BASE_OVER_HEIGHT * H:
+            raise InvalidParameter("wall base width B", f"{B:g} m", f"<= {MAX_BASE_OVER_HEIGHT * H:g} m "
+                                   f"({MAX_BASE_OVER_HEIGHT:g} x the height {H:g} m)",
+                                   "no retaining wall is this wide: a length in mm?")
+        if self.foundation is not None and self.foundation.embedment >= H:
+            raise InvalidParameter("foundation.embedment", self.foundation.embedment, f"[0, height = {H:g}) m",
+                                   "the wall would be buried in front")
+        for side in ("front", "behind"):
+            level = getattr(self.water, side)
+            if level > H:
+                raise InvalidParameter(f"water.{side}", level, f"[0, height = {H:g}] m", "above the wall's top")
+        if self.backfill is not None and self.backfill.layers:
+            total = math.fsum(x.thickness for x in self.backfill.layers)
+            if total > H + 1e-9:
+                raise InvalidParameter("backfill.layers", f"{total:g} m in all", f"<= the retained height "
+                                       f"{H:g} m (the [backfill] soil fills the rest below them)")
 
     def replace_wall(self, wall) -> "DesignCase":
         from dataclasses import replace

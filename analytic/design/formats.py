@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..errors import InvalidParameter
 from .actions import passive_force, thrust_for, wall_forces
 from .bearing import bearing_resistance, bearing_undrained
 from .case import GAMMA_W, DesignCase, design_angle
@@ -115,6 +116,8 @@ def evaluate(case: DesignCase, combo: Combination, *, kh: float = 0.0, kv: float
     dst, stb = overturning_moments(forces, g_o, net=case.method.thrust_moment == "net")
     out.checks["overturning"] = make_check("overturning", dst, stb, "moments about the toe")
     if combo.name == "EQU":
+        out.V_d, out.H_d, M = resultant(forces, g_o)      # the actions EQU weighed, with its factors
+        out.e = eccentricity(out.V_d, M, B)
         return out
     g_s = _forces_factors(forces, combo, "sliding", tan_db, ss)
     V, H, M = resultant(forces, g_s)
@@ -155,7 +158,11 @@ def _evaluate_any(case, combo, **kw):
 
 def verify(case: DesignCase, factors: Factors, fmt: str) -> FormatResult:
     """Evaluate a format ('DA1', 'DA2', 'DA3', 'EQU', 'fs', 'seismic') and keep the
-    worst combination of each check."""
+    worst combination of each check. 'seismic' needs a [seismic] table: without one the
+    case has no seismic situation to check (it is refused, never run at k_h = 0)."""
+    if fmt == "seismic" and not case.seismic.given:
+        raise InvalidParameter("seismic", "missing", "a [seismic] table (alpha, S, r; EN 1998-5 7.3.2.2) for "
+                               "--format seismic", "without it there is no seismic situation to check")
     results = []
     for combo in factors.format(fmt):
         if combo.name == "SEISMIC" or fmt == "seismic":

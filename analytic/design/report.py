@@ -131,10 +131,15 @@ def design_json(case: DesignCase, result: FormatResult, fs_required: dict | None
 def design_text(case: DesignCase, result: FormatResult) -> str:
     """A plain-text table of the checks, the governing one and the conventions."""
     lead = _lead(result)
+    if "bearing" in result.worst:
+        where = f"  e = {lead.e:.3f} m  B' = {lead.B_eff:.3f} m  q_ult = {lead.q_ult:.1f} kPa  K = {lead.K:.4f}"
+    elif result.format == "EQU":
+        where = (f"  e = {lead.e:.3f} m  K = {lead.K:.4f}  (EQU's factors; EQU checks overturning about the toe "
+                 f"only, EN 1997-1 2.4.7.2)")
+    else:
+        where = "  (at the base joint; no foundation given)"
     lines = [f"{case.wall.kind} wall, B = {lead.B:.3f} m, format {result.format}",
-             f"  V_d = {lead.V_d:.2f} kN/m  H_d = {lead.H_d:.2f} kN/m" + (
-                 f"  e = {lead.e:.3f} m  B' = {lead.B_eff:.3f} m  q_ult = {lead.q_ult:.1f} kPa  K = {lead.K:.4f}"
-                 if "bearing" in result.worst else "  (at the base joint; no foundation given)"),
+             f"  V_d = {lead.V_d:.2f} kN/m  H_d = {lead.H_d:.2f} kN/m" + where,
              f"  {'check':22s} {'E_d':>10s} {'R_d':>10s} {'util.':>7s}  combination"]
     for k, (label, c) in result.worst.items():
         lines.append(f"  {k:22s} {c.E_d:10.2f} {c.R_d:10.2f} {c.utilisation:7.3f}  {label}")

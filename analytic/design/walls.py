@@ -208,6 +208,14 @@ class GravityWall:
             raise InvalidParameter("wall.polygon", len(pts), ">= 3 vertices enclosing an area")
         if min(p[1] for p in pts) < 0 or min(p[0] for p in pts) < 0:
             raise InvalidParameter("wall.polygon", "negative coordinate", "x >= 0 and y >= 0 m (toe at (0, 0))")
+        top = max(p[1] for p in pts)
+        if self.height and abs(self.height - top) > 1e-9:     # one geometry per wall
+            raise InvalidParameter("wall.height", self.height, f"the polygon's top, {top:g} m, or left out",
+                                   "a polygon and a height that disagree")
+        for name in ("crest", "base", "back_batter"):
+            if getattr(self, name):
+                raise InvalidParameter(f"wall.{name}", getattr(self, name), "left out with a polygon",
+                                       "the polygon is the whole geometry")
 
     @property
     def B(self) -> float:

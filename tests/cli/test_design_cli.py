@@ -51,7 +51,8 @@ def test_design_fs_json_keys(tmp_path, capsys):
 
 @pytest.mark.parametrize("fmt", ["DA1", "DA2", "DA3", "EQU", "seismic"])
 def test_design_approach_json_keys(tmp_path, capsys, fmt):
-    assert main(["design", write(tmp_path), "--format", fmt, "--json"]) == 0
+    text = WALL + ("\n[seismic]\nalpha = 0.1\nS = 1.2\nr = 1.5\n" if fmt == "seismic" else "")
+    assert main(["design", write(tmp_path, text), "--format", fmt, "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert {"V_d_kN_per_m", "H_d_kN_per_m", "checks"} <= set(out)
     wanted = {"overturning"} if fmt == "EQU" else {"sliding", "overturning", "bearing"}
@@ -220,3 +221,40 @@ def test_design_seismic_refuses_cohesive_fill(tmp_path, capsys):
     assert main(["design", write(tmp_path, text), "--format", "seismic"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "seismic.alpha" in err[0]
+
+
+def test_seismic_format_without_a_seismic_table_is_refused_and_all_says_what_it_skipped(tmp_path, capsys):
+    """Before, --format seismic ran a 'seismic' check at k_h = 0 and exit 0, and --format
+    all dropped it without a word (issue 40)."""
+    assert main(["design", write(tmp_path), "--format", "seismic"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "seismic" in err and "[seismic] table" in err
+    assert main(["design", write(tmp_path), "--format", "all"]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last.startswith("formats run: DA1, DA2, DA3, EQU, fs; seismic skipped: no [seismic] table")
+    assert main(["design", write(tmp_path), "--format", "all", "--json"]) == 0
+    assert "no [seismic] table" in json.loads(capsys.readouterr().out)["skipped_formats"]["seismic"]
+
+
+def test_equ_prints_the_actions_it_weighed(tmp_path, capsys):
+    """EQU checks overturning only, but its line gave V_d = 0.00 H_d = 0.00 '(no foundation
+    given)' for a file with a [foundation]: it now gives the actions under EQU's factors,
+    whose moments are the check's E_d and R_d."""
+    assert main(["design", write(tmp_path), "--format", "EQU", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["V_d_kN_per_m"] > 0 and out["H_d_kN_per_m"] > 0
+    assert main(["design", write(tmp_path), "--format", "EQU"]) == 0
+    text = capsys.readouterr().out
+    assert "no foundation given" not in text and "EQU checks overturning about the toe only" in text
+
+
+@pytest.mark.parametrize("change, name", [
+    (("heel = ", "heel = 3000 #"), "wall base width B"),            # a length in mm
+    (("embedment = ", "embedment = 9 #"), "foundation.embedment"),  # deeper than the wall is high
+])
+def test_wall_files_that_make_no_sense_are_refused(tmp_path, capsys, change, name):
+    text = WALL.replace(*change, 1)
+    assert text != WALL
+    assert main(["design", write(tmp_path, text)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"wallsim: error: {name}")
