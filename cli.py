@@ -40,36 +40,42 @@ def _output_file(name: str, suffixes=(".png", ".pdf", ".svg")):
 
 
 def _add_theory(sub):
+    from analytic.inputs import MAX_HEIGHT_M, MAX_PRESSURE_KPA, MAX_UNIT_WEIGHT_KN_M3
+
     p = sub.add_parser("theory", help="closed-form and arching earth pressure for one wall",
                        description="Every closed-form and arching method side by side. "
                                    "Defaults: Nadukuru & Michalowski's translation case.")
     p.add_argument("--phi", type=_number("phi", 0, 90, unit="deg"), default=34.0, help="friction angle [deg] (34)")
     p.add_argument("--delta", type=_number("delta", -90, 90, unit="deg"), default=24.7,
                    help="wall friction angle [deg], |delta| <= phi (24.7)")
-    p.add_argument("--H", type=_number("H", 0, None, unit="m"), default=3.1, help="wall height [m] (3.1)")
-    p.add_argument("--gamma", type=_number("gamma", 0, None, unit="kN/m^3"), default=16.7,
-                   help="unit weight [kN/m^3] (16.7)")
+    p.add_argument("--H", type=_number("H", 0, MAX_HEIGHT_M, hi_open=False, unit="m"), default=3.1,
+                   help=f"wall height [m], (0, {MAX_HEIGHT_M:g}] (3.1)")
+    p.add_argument("--gamma", type=_number("gamma", 0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m^3"),
+                   default=16.7, help=f"unit weight [kN/m^3], (0, {MAX_UNIT_WEIGHT_KN_M3:g}] (16.7)")
     p.add_argument("--beta", type=_number("beta", -90, 90, unit="deg"), default=0.0,
                    help="backfill slope [deg], + rising away from the wall (0)")
     p.add_argument("--omega", type=_number("omega", -90, 90, unit="deg"), default=0.0,
                    help="back-face inclination from vertical [deg], + heel under the fill (0)")
-    p.add_argument("--q", type=_number("q", 0, None, lo_open=False, unit="kPa"), default=0.0,
-                   help="surcharge [kPa] (0)")
+    p.add_argument("--q", type=_number("q", 0, MAX_PRESSURE_KPA, lo_open=False, hi_open=False, unit="kPa"),
+                   default=0.0, help=f"surcharge [kPa], [0, {MAX_PRESSURE_KPA:g}] (0)")
     p.add_argument("--kh", type=_number("kh", 0, 1, lo_open=False), default=0.0, help="horizontal seismic coefficient (0)")
     p.add_argument("--kv", type=_number("kv", -1, 1), default=0.0, help="vertical seismic coefficient, + upward (0)")
-    p.add_argument("--width", type=_number("width", 0, None, unit="m"), default=None,
+    p.add_argument("--width", type=_number("width", 0, 10 * MAX_HEIGHT_M, hi_open=False, unit="m"), default=None,
                    help="backfill width B for Janssen's slot [m] (default: H)")
     p.add_argument("--ps-exponent", choices=["iii", "i"], default="iii",
                    help="Paik-Salgado profile exponent form (see analytic/arching.py)")
-    p.add_argument("--c", type=_number("c", 0, None, lo_open=False, unit="kPa"), default=0.0,
-                   help="effective cohesion [kPa] (0): Rankine-Bell, Coulomb and EC7 with c")
+    p.add_argument("--c", type=_number("c", 0, MAX_PRESSURE_KPA, lo_open=False, hi_open=False, unit="kPa"),
+                   default=0.0, help="effective cohesion [kPa] (0): Rankine-Bell, Coulomb and EC7 with c")
     p.add_argument("--adhesion-ratio", type=_number("adhesion-ratio", 0, 1, lo_open=False, hi_open=False),
                    default=0.0, help="wall adhesion a/c for Coulomb with cohesion (0)")
-    p.add_argument("--water-depth", type=_number("water-depth", 0, None, lo_open=False, unit="m"), default=None,
+    p.add_argument("--water-depth", type=_number("water-depth", 0, MAX_HEIGHT_M, lo_open=False, hi_open=False,
+                                                 unit="m"), default=None,
                    help="water table behind the wall, depth below the wall top [m] (dry)")
-    p.add_argument("--water-depth-front", type=_number("water-depth-front", 0, None, lo_open=False, unit="m"),
+    p.add_argument("--water-depth-front", type=_number("water-depth-front", 0, MAX_HEIGHT_M, lo_open=False,
+                                                       hi_open=False, unit="m"),
                    default=None, help="water level in front of the wall, depth below the wall top [m] (none)")
-    p.add_argument("--gamma-sat", type=_number("gamma-sat", 9.81, None, lo_open=False, unit="kN/m^3"),
+    p.add_argument("--gamma-sat", type=_number("gamma-sat", 9.81, MAX_UNIT_WEIGHT_KN_M3, lo_open=False,
+                                               hi_open=False, unit="kN/m^3"),
                    default=None, help="saturated unit weight below the water table [kN/m^3] (gamma)")
     p.add_argument("--layers", metavar="FILE.toml",
                    help="layered backfill: [[layer]] tables with thickness [m], phi [deg], gamma [kN/m^3], "

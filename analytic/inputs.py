@@ -53,12 +53,20 @@ def _range_text(lo, hi, lo_open, hi_open, unit):
     return f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{u}"
 
 
+#: bounds of physical sense, refused beyond (inputs such as H = 1e308 overflowed into a
+#: traceback, q = 1e300 into K = 9.8e298): no retaining wall is 100 m high, no soil
+#: weighs 100 kN/m3, no surcharge reaches 10 MPa
+MAX_HEIGHT_M = 100.0
+MAX_UNIT_WEIGHT_KN_M3 = 100.0
+MAX_PRESSURE_KPA = 10_000.0
+
+
 @dataclass(frozen=True)
 class Soil:
     """Cohesionless, dry backfill.
 
     phi_deg:      internal friction angle [deg], 0 < phi < 90
-    unit_weight:  gamma [N/m^3], > 0 (e.g. 16.7e3 for Nadukuru & Michalowski's fill)
+    unit_weight:  gamma [N/m^3], (0, 1e5] (e.g. 16.7e3 for Nadukuru & Michalowski's fill)
     """
 
     phi_deg: float
@@ -66,8 +74,9 @@ class Soil:
 
     def __post_init__(self):
         object.__setattr__(self, "phi_deg", require_number("phi", self.phi_deg, 0.0, 90.0, unit="deg"))
-        object.__setattr__(self, "unit_weight",
-                           require_number("gamma", self.unit_weight, 0.0, None, unit="N/m^3"))
+        object.__setattr__(self, "unit_weight", require_number("gamma", self.unit_weight, 0.0,
+                                                               MAX_UNIT_WEIGHT_KN_M3 * 1e3, hi_open=False,
+                                                               unit="N/m^3"))
 
     @property
     def phi(self) -> float:
@@ -79,11 +88,11 @@ class Soil:
 class Wall:
     """A rigid retaining wall and the backfill surface behind it.
 
-    height:       H, vertical height of the back face [m], > 0
+    height:       H, vertical height of the back face [m], (0, 100]
     delta_deg:    wall friction angle [deg], |delta| <= phi (checked against the soil by each method)
     omega_deg:    back-face inclination from vertical [deg], |omega| < 90
     beta_deg:     backfill slope [deg], |beta| < 90
-    surcharge:    q, uniform vertical load per unit horizontal area on the backfill [Pa], >= 0
+    surcharge:    q, uniform vertical load per unit horizontal area on the backfill [Pa], [0, 1e7]
     """
 
     height: float
@@ -93,12 +102,13 @@ class Wall:
     surcharge: float = 0.0
 
     def __post_init__(self):
-        object.__setattr__(self, "height", require_number("H", self.height, 0.0, None, unit="m"))
+        object.__setattr__(self, "height", require_number("H", self.height, 0.0, MAX_HEIGHT_M, hi_open=False,
+                                                          unit="m"))
         object.__setattr__(self, "delta_deg", require_number("delta", self.delta_deg, -90.0, 90.0, unit="deg"))
         object.__setattr__(self, "omega_deg", require_number("omega", self.omega_deg, -90.0, 90.0, unit="deg"))
         object.__setattr__(self, "beta_deg", require_number("beta", self.beta_deg, -90.0, 90.0, unit="deg"))
-        object.__setattr__(self, "surcharge",
-                           require_number("q", self.surcharge, 0.0, None, lo_open=False, unit="Pa"))
+        object.__setattr__(self, "surcharge", require_number("q", self.surcharge, 0.0, MAX_PRESSURE_KPA * 1e3,
+                                                             lo_open=False, hi_open=False, unit="Pa"))
 
     @property
     def delta(self) -> float:

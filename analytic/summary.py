@@ -49,21 +49,34 @@ def theory_table(soil: Soil, wall: Wall, *, kh: float = 0.0, kv: float = 0.0,
     B = wall.height if width is None else width
     active_only = "active/at-rest theory (drop --passive)"
     plan = [
-        ("rankine", lambda: rankine(soil, wall, passive)),
-        ("coulomb", lambda: coulomb(soil, wall, passive)),
-        ("ec7-annex-c", lambda: ec7_annex_c(soil, wall, passive)),
-        ("log-spiral", (lambda: log_spiral(soil, wall)) if passive else "passive theory (add --passive)"),
-        ("jaky", (lambda: jaky(soil, wall)) if not passive else active_only),
-        ("mononobe-okabe", lambda: mononobe_okabe(soil, wall, kh, kv, passive)),
+        ("rankine", lambda w: rankine(soil, w, passive)),
+        ("coulomb", lambda w: coulomb(soil, w, passive)),
+        ("ec7-annex-c", lambda w: ec7_annex_c(soil, w, passive)),
+        ("log-spiral", (lambda w: log_spiral(soil, w)) if passive else "passive theory (add --passive)"),
+        ("jaky", (lambda w: jaky(soil, w)) if not passive else active_only),
+        ("mononobe-okabe", lambda w: mononobe_okabe(soil, w, kh, kv, passive)),
     ]
     if kh > 0 and not passive:
-        plan.append(("seed-whitman", lambda: seed_whitman(soil, wall, kh)))
-    for name, fn in (("handy", lambda: handy(soil, wall)),
-                     ("paik-salgado", lambda: paik_salgado(soil, wall, ps_exponent)),
-                     ("khosravi", lambda: khosravi(soil, wall)),
-                     ("janssen", lambda: janssen(soil, wall, B))):
+        plan.append(("seed-whitman", lambda w: seed_whitman(soil, w, kh)))
+    for name, fn in (("handy", lambda w: handy(soil, w)),
+                     ("paik-salgado", lambda w: paik_salgado(soil, w, ps_exponent)),
+                     ("khosravi", lambda w: khosravi(soil, w)),
+                     ("janssen", lambda w: janssen(soil, w, B))):
         plan.append((name, fn if not passive else active_only))
-    return _evaluate(plan)
+    return [_soil_coefficient(row, dict(plan)[row.name], wall) for row in _evaluate(plan, wall)]
+
+
+def _soil_coefficient(row: MethodRow, fn, wall: Wall) -> MethodRow:
+    """One meaning of K in every row: the soil coefficient. A method whose K came out of
+    the whole thrust with a surcharge (Mononobe-Okabe, Seed-Whitman, the arching
+    theories) gets K and Kh of its own run without the surcharge, and the surcharge's
+    thrust apart as extra['thrust_q'] = P(q) - P(0), as the linear methods give it."""
+    p = row.profile
+    if p is None or not wall.surcharge or "thrust_q" in p.extra:
+        return row
+    from dataclasses import replace
+    bare = fn(replace(wall, surcharge=0.0))
+    return replace(row, profile=replace(p, K=bare.K, Kh=bare.Kh, extra={**p.extra, "thrust_q": p.thrust - bare.thrust}))
 
 
 def _is_design_case(soil: Soil, ground: Ground | None, line_loads, strip_loads) -> bool:
@@ -90,14 +103,16 @@ def _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion
     return _evaluate(plan)
 
 
-def _evaluate(plan) -> list[MethodRow]:
+def _evaluate(plan, wall: Wall | None = None) -> list[MethodRow]:
+    """Each (name, fn or the reason it does not apply) of ``plan`` as a row; fn takes
+    ``wall`` when one is given, nothing otherwise."""
     rows = []
     for name, fn in plan:
         if isinstance(fn, str):
             rows.append(MethodRow(name, None, fn))
             continue
         try:
-            rows.append(MethodRow(name, fn()))
+            rows.append(MethodRow(name, fn(wall) if wall is not None else fn()))
         except NotApplicable as err:
             rows.append(MethodRow(name, None, err.why or str(err)))
     return rows

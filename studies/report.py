@@ -5,6 +5,7 @@ Pure: builds renderables and dicts; the CLI prints them.
 
 from __future__ import annotations
 
+from rich import box
 from rich.console import Group
 from rich.table import Table
 from rich.text import Text
@@ -76,23 +77,31 @@ def theory_text(soil: Soil, wall: Wall, rows: list[MethodRow], passive: bool, *,
              + _design_title(ground, line_loads, strip_loads))
     split = any(r.profile is not None and ("parts" in r.profile.extra or r.profile.extra.get("thrust_q"))
                 for r in rows)
-    t = Table(title=title, title_justify="left")
-    cols = ("method", "K", "Kh", "thrust kN/m", "h/H") + (
-        ("Ph soil", "Ph q", "Ph w") if split else ()) + ("status",)
-    for col in cols:
-        t.add_column(col, justify="left" if col in ("method", "status") else "right", no_wrap=True)
-    sources = Text()
+    cols = ("method", "K", "Kh", "thrust\nkN/m", "h/H") + (
+        ("Ph\nsoil", "Ph\nq", "Ph\nw") if split else ()) + ("status",)
+    cells, sources = [], Text()
     for r in rows:
         p = r.profile
         if p is None:
-            t.add_row(r.name, "n/a", "", "", "", *(("", "", "") if split else ()), "not applicable")
+            cells.append((r.name, "n/a", "", "", "", *(("", "", "") if split else ()), "not applicable"))
             sources.append(f"{r.name}: n/a: {r.reason}\n", style="dim")
             continue
         status = "verified" if p.status == "verified" else "[yellow]reconstruction[/yellow]"
-        t.add_row(p.method, f"{p.K:.4f}", f"{p.Kh:.4f}", f"{p.thrust / 1e3:.2f}",
-                  f"{p.height_over_H:.3f}", *(_split_cells(p) if split else ()), status)
+        cells.append((p.method, f"{p.K:.4f}", f"{p.Kh:.4f}", f"{p.thrust / 1e3:.2f}",
+                      f"{p.height_over_H:.3f}", *(_split_cells(p) if split else ()), status))
         sources.append(f"{p.method}: {p.source}" + (f" [{p.notes}]" if p.notes else "") + "\n",
                        style="dim")
+    # numbers are never cut: a number column is as wide as its widest cell and header
+    # line; only the words of the method and status columns wrap in a narrow terminal
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, collapse_padding=True, pad_edge=False)
+    for k, col in enumerate(cols):
+        if col in ("method", "status"):
+            t.add_column(col, justify="left", overflow="fold")
+        else:
+            width = max([len(line) for line in col.split("\n")] + [len(c[k]) for c in cells])
+            t.add_column(col, justify="right", no_wrap=True, min_width=width, max_width=width)
+    for c in cells:
+        t.add_row(*c)
     foot = Text(SIGN_CONVENTION, style="dim")
     if split:
         foot.append("\nPh soil / Ph q / Ph w: horizontal thrust [kN/m] of the soil, of the surcharges "
