@@ -45,9 +45,10 @@ def _add_theory(sub):
     p = sub.add_parser("theory", help="closed-form and arching earth pressure for one wall",
                        description="Every closed-form and arching method side by side. "
                                    "Defaults: Nadukuru & Michalowski's translation case.")
-    p.add_argument("--phi", type=_number("phi", 0, 90, unit="deg"), default=34.0, help="friction angle [deg] (34)")
-    p.add_argument("--delta", type=_number("delta", -90, 90, unit="deg"), default=24.7,
-                   help="wall friction angle [deg], |delta| <= phi (24.7)")
+    p.add_argument("--phi", type=_number("phi", 0, 90, lo_open=False, unit="deg"), default=34.0,
+                   help="friction angle [deg], [0, 90); 0 with --c: undrained clay in total stress, c = c_u (34)")
+    p.add_argument("--delta", type=_number("delta", -90, 90, unit="deg"), default=None,
+                   help="wall friction angle [deg], |delta| <= phi (24.7; 0 when phi = 0)")
     p.add_argument("--H", type=_number("H", 0, MAX_HEIGHT_M, hi_open=False, unit="m"), default=3.1,
                    help=f"wall height [m], (0, {MAX_HEIGHT_M:g}] (3.1)")
     p.add_argument("--gamma", type=_number("gamma", 0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m^3"),
@@ -84,6 +85,8 @@ def _add_theory(sub):
                    help="line load Q [kN/m] at X [m] behind the wall (repeatable)")
     p.add_argument("--strip-load", action="append", default=[], metavar="Q,X1,X2",
                    help="strip load Q [kPa] from X1 to X2 [m] behind the wall (repeatable)")
+    p.add_argument("--crack-water", action="store_true",
+                   help="the active tension crack of a cohesive fill full of water (gamma_w z down to it)")
     p.add_argument("--passive", action="store_true", help="passive instead of active")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--plot", metavar="FILE.png", type=_output_file("plot"), help="draw sigma_h(z) of every method")
@@ -92,13 +95,17 @@ def _add_theory(sub):
 
 def _cmd_theory(args) -> int:
     from analytic import Soil, Wall
+    from analytic.errors import InvalidParameter
     from analytic.summary import theory_table
     from studies.report import theory_json, theory_text
 
     from analytic.ground import theory_loads, theory_ground
 
-    soil = Soil(args.phi, args.gamma * 1e3)
-    wall = Wall(args.H, args.delta, args.omega, args.beta, args.q * 1e3)
+    if args.phi == 0 and not args.c and not args.layers:
+        raise InvalidParameter("c", args.c, "> 0 with --phi 0", "phi = 0 is the undrained case: give c_u as --c")
+    delta = args.delta if args.delta is not None else (24.7 if args.phi > 0 else 0.0)
+    soil = Soil(args.phi, args.gamma * 1e3, undrained=args.phi == 0)
+    wall = Wall(args.H, delta, args.omega, args.beta, args.q * 1e3)
     layers = _read_toml("layers", args.layers) if args.layers else None
     ground = theory_ground(soil, wall.height, c_kPa=args.c, gamma_sat_kN=args.gamma_sat,
                            water_depth=args.water_depth, water_depth_front=args.water_depth_front,
@@ -109,7 +116,7 @@ def _cmd_theory(args) -> int:
     loads = theory_loads(args.line_load, args.strip_load)
     rows = theory_table(soil, wall, kh=args.kh, kv=args.kv, passive=args.passive,
                         width=args.width, ps_exponent=args.ps_exponent, ground=ground,
-                        adhesion_ratio=args.adhesion_ratio, **loads)
+                        adhesion_ratio=args.adhesion_ratio, crack_water=args.crack_water, **loads)
     if args.json:
         print(json.dumps(theory_json(soil, wall, rows, args.passive, ground=ground, **loads), indent=2))
     else:

@@ -60,9 +60,10 @@ class Layer:
     """One backfill layer, from the top down.
 
     thickness:        [m], > 0
-    phi_deg:          effective friction angle [deg], 0 < phi < 90
+    phi_deg:          effective friction angle [deg], 0 < phi < 90; or 0 for an undrained
+                      clay in total stress (then ``cohesion`` is c_u > 0)
     unit_weight:      gamma above the water table [N/m^3], > 0
-    cohesion:         effective cohesion c' [Pa], >= 0
+    cohesion:         effective cohesion c' [Pa], >= 0 (c_u when phi = 0)
     unit_weight_sat:  gamma_sat below the water table [N/m^3], >= gamma_w; default: unit_weight
     """
 
@@ -74,9 +75,12 @@ class Layer:
 
     def __post_init__(self):
         object.__setattr__(self, "thickness", require_number("layer thickness", self.thickness, 0.0, None, unit="m"))
-        object.__setattr__(self, "phi_deg", require_number("phi", self.phi_deg, 0.0, 90.0, unit="deg"))
+        object.__setattr__(self, "phi_deg", require_number("phi", self.phi_deg, 0.0, 90.0, lo_open=False,
+                                                           unit="deg"))
         object.__setattr__(self, "unit_weight", require_number("gamma", self.unit_weight, 0.0, None, unit="N/m^3"))
         object.__setattr__(self, "cohesion", require_number("c", self.cohesion, 0.0, None, lo_open=False, unit="Pa"))
+        if self.phi_deg == 0.0 and self.cohesion <= 0.0:
+            raise InvalidParameter("c", self.cohesion, "> 0 with phi = 0", "phi = 0 is the undrained case: give c_u")
         if self.unit_weight_sat is not None:
             object.__setattr__(self, "unit_weight_sat",
                                require_number("gamma_sat", self.unit_weight_sat, GAMMA_WATER, None,
@@ -270,6 +274,9 @@ def _layer_coefficients(method: str, layer: Layer, wall: Wall, passive: bool, ad
 
 def _check_method_geometry(method: str, ground: Ground, wall: Wall) -> None:
     cohesive = any(x.cohesion > 0 for x in ground.layers)
+    if method == "ec7-annex-c" and any(x.phi_deg == 0 for x in ground.layers):
+        raise NotApplicable("phi", 0.0, "> 0", "Annex C's K_c = (K_n - 1) cot phi has no value at phi = 0 "
+                            "(undrained: rankine, K = 1 and 2 c_u)")
     if method == "rankine":
         require_vertical_level("Rankine", wall, level=cohesive)
     elif method == "coulomb" and cohesive:
@@ -307,7 +314,8 @@ def _part(F, M, H, horizontal_factor) -> Part:
 
 def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive: bool = False, *,
                    line_loads: tuple = (), strip_loads: tuple = (), adhesion_ratio: float = 0.0,
-                   points_per_segment: int = 40, trial_wedge: bool = False) -> DesignProfile:
+                   points_per_segment: int = 40, trial_wedge: bool = False,
+                   crack_water: bool = False) -> DesignProfile:
     """Design earth pressure on the back face (module docstring for the equations).
 
     ground:          layers and water levels; the layers must add up to wall.height
@@ -317,6 +325,9 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
     trial_wedge:     also work Coulomb's c-a trial wedge (``wedge.py``, ~0.1 s) where it
                      applies, into ``extra['trial_wedge']`` and the notes
     line_loads, strip_loads: ``surcharge.LineLoad`` / ``StripLoad`` (vertical wall only)
+    crack_water:     the active tension crack full of water: gamma_w z on the wall down to
+                     the crack depth, added to the water part (a short-term design case of
+                     clay backfill; Craig sec. 11.3)
 
     Returns a ``DesignProfile`` whose ``parts`` give soil, surcharge (uniform q plus line
     and strip loads), water and front-water forces apart.
@@ -361,9 +372,16 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
     crack = 0.0
     if not passive:
         z, raw0, raw_q, layer_of, crack = _insert_zero_crossings(z, raw0, raw_q, layer_of)
+    in_crack = np.zeros(len(z), bool)
+    if crack_water and crack > 0:
+        # the crack depth twice: the water pressure ends there in a jump
+        k = int(np.searchsorted(z, crack, side="left")) + 1
+        z, raw0, raw_q, layer_of = (np.insert(a, k, a[k - 1]) for a in (z, raw0, raw_q, layer_of))
+        in_crack = np.arange(len(z)) < k
     s0 = np.maximum(raw0, 0.0) if not passive else raw0
     sq = (np.maximum(raw_q, 0.0) if not passive else raw_q) - s0
     u, u_front = ground.pore_pressure(z), ground.pore_pressure(z, front=True)
+    u = np.maximum(u, np.where(in_crack, ground.unit_weight_water * z, 0.0))
     loads = sum((ld.sigma_h(z, H) for ld in (*line_loads, *strip_loads)), np.zeros_like(z))
 
     # per unit face length: a face element spans dz / cos(omega)
@@ -391,7 +409,10 @@ def earth_pressure(ground: Ground, wall: Wall, method: str = "rankine", passive:
         notes.append(f"c-a trial wedge: {wedge.P_h / 1e3:.2f} kN/m horizontal, crack {wedge.crack_depth:.3f} m "
                      "(the profile uses EN 1997-1 C.1)")
     if crack > 0:
-        notes.append(f"tension crack to {crack:.3f} m: the negative active stress above it is not counted")
+        notes.append(f"tension crack to {crack:.3f} m: the negative active stress above it is not counted"
+                     + ("; the crack full of water (in the water part)" if crack_water else ""))
+    if any(x.phi_deg == 0 for x in ground.layers):
+        notes.append("phi = 0: undrained, total stress (K = 1, the c term 2 c_u)")
     if ground.water_depth is not None and ground.water_depth >= H:
         notes.append("water table at or below the base: no water pressure on the wall")
     return DesignProfile(method=method, passive=passive, H=H, z=z, sigma_soil=s0, sigma_q=sq,

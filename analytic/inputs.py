@@ -67,13 +67,19 @@ class Soil:
 
     phi_deg:      internal friction angle [deg], 0 < phi < 90
     unit_weight:  gamma [N/m^3], (0, 1e5] (e.g. 16.7e3 for Nadukuru & Michalowski's fill)
+    undrained:    a clay in total stress instead (phi = 0, its strength c_u given to the
+                  design methods of ground.py); only the theory table's title reads it
     """
 
     phi_deg: float
     unit_weight: float
+    undrained: bool = False
 
     def __post_init__(self):
-        object.__setattr__(self, "phi_deg", require_number("phi", self.phi_deg, 0.0, 90.0, unit="deg"))
+        phi = require_number("phi", self.phi_deg, 0.0, 90.0, lo_open=not self.undrained, unit="deg")
+        object.__setattr__(self, "phi_deg", phi)
+        if self.undrained and self.phi_deg != 0:
+            raise InvalidParameter("phi", self.phi_deg, "0 for an undrained soil (total stress)")
         object.__setattr__(self, "unit_weight", require_number("gamma", self.unit_weight, 0.0,
                                                                MAX_UNIT_WEIGHT_KN_M3 * 1e3, hi_open=False,
                                                                unit="N/m^3"))

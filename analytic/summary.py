@@ -29,7 +29,7 @@ def theory_table(soil: Soil, wall: Wall, *, kh: float = 0.0, kv: float = 0.0,
                  passive: bool = False, width: float | None = None,
                  ps_exponent: str = "iii", ground: Ground | None = None,
                  line_loads: tuple = (), strip_loads: tuple = (),
-                 adhesion_ratio: float = 0.0) -> list[MethodRow]:
+                 adhesion_ratio: float = 0.0, crack_water: bool = False) -> list[MethodRow]:
     """Evaluate every method for (soil, wall). Methods whose assumptions the geometry
     breaks come back as n/a rows; inputs with no solution (beta > phi, |delta| > phi,
     an inertia angle beyond phi - beta) raise ``InvalidParameter``.
@@ -38,14 +38,16 @@ def theory_table(soil: Soil, wall: Wall, *, kh: float = 0.0, kv: float = 0.0,
     ground, line_loads, strip_loads: a c-phi, wet or layered backfill and surface loads
     (``ground.py``); when any is given the design methods (Rankine-Bell, Coulomb,
     EC7 Annex C) carry the table and the others come back n/a. adhesion_ratio: a/c for
-    Coulomb with cohesion.
+    Coulomb with cohesion; crack_water: the tension crack full of water (ground.py).
     """
+    if crack_water and not _is_design_case(soil, ground, line_loads, strip_loads):
+        raise InvalidParameter("crack-water", True, "with a cohesive fill (c > 0)", "a cohesionless fill has no crack")
     if _is_design_case(soil, ground, line_loads, strip_loads):
         if kh or kv:
             # the design methods are static: refuse rather than drop the inertia silently
             raise InvalidParameter("kh" if kh else "kv", kh or kv, "0 with cohesion, water, layers or line/strip loads",
                                    "pseudo-static thrust is given for dry cohesionless fill only")
-        return _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion_ratio)
+        return _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion_ratio, crack_water)
     B = wall.height if width is None else width
     active_only = "active/at-rest theory (drop --passive)"
     plan = [
@@ -81,7 +83,7 @@ def _soil_coefficient(row: MethodRow, fn, wall: Wall) -> MethodRow:
 
 def _is_design_case(soil: Soil, ground: Ground | None, line_loads, strip_loads) -> bool:
     """True when the backfill is not today's dry, uniform, cohesionless one."""
-    if line_loads or strip_loads:
+    if line_loads or strip_loads or soil.undrained:
         return True
     if ground is None:
         return False
@@ -91,12 +93,13 @@ def _is_design_case(soil: Soil, ground: Ground | None, line_loads, strip_loads) 
     return not (dry and uniform and one.cohesion == 0.0)
 
 
-def _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion_ratio) -> list[MethodRow]:
+def _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion_ratio,
+                  crack_water=False) -> list[MethodRow]:
     ground = ground or Ground.uniform(wall.height, soil.phi_deg, soil.unit_weight)
     why = "derived for a dry, uniform, cohesionless fill without line or strip loads"
     plan = [(m, (lambda m=m: earth_pressure(ground, wall, m, passive, line_loads=line_loads,
-                                            strip_loads=strip_loads,
-                                            adhesion_ratio=adhesion_ratio, trial_wedge=True).as_profile()))
+                                            strip_loads=strip_loads, adhesion_ratio=adhesion_ratio,
+                                            trial_wedge=True, crack_water=crack_water).as_profile()))
             for m in DESIGN_METHODS]
     plan.append(("log-spiral", why if passive else "passive theory (add --passive)"))
     plan += [(m, why) for m in ("jaky", "mononobe-okabe", "handy", "paik-salgado", "khosravi", "janssen")]

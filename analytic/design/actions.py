@@ -43,11 +43,13 @@ class Force:
 
 def design_backfill(fill: Backfill, materials: dict) -> Backfill:
     """The fill with phi_d = atan(tan phi / gamma_phi'), c'_d = c' / gamma_c',
-    gamma / gamma_gamma and gamma_sat / gamma_gamma (EN 1997-1 2.4.6.2, Table A.4)."""
+    gamma / gamma_gamma and gamma_sat / gamma_gamma (EN 1997-1 2.4.6.2, Table A.4); an
+    undrained soil (phi = 0) takes c_u,d = c_u / gamma_cu."""
     g = materials["gamma"]
 
     def design(x) -> dict:
-        return {"gamma": x.gamma / g, "phi": design_angle(x.phi, materials["phi"]), "c": x.c / materials["c"],
+        c_factor = materials["cu"] if x.phi == 0 else materials["c"]
+        return {"gamma": x.gamma / g, "phi": design_angle(x.phi, materials["phi"]), "c": x.c / c_factor,
                 "gamma_sat": None if x.gamma_sat is None else x.gamma_sat / g}
     layers = tuple(FillLayer(x.thickness, **design(x)) for x in fill.layers)
     return Backfill(beta=fill.beta, layers=layers, **design(fill))

@@ -31,10 +31,13 @@ GAMMA_W = 9.81  # kN/m3
 
 
 def check_soil(table: str, soil) -> None:
-    """gamma > 0 [kN/m3], phi in (0, 50] [deg], c >= 0 [kPa], gamma_sat >= gamma_w."""
+    """gamma > 0 [kN/m3], phi in [0, 50] [deg], c >= 0 [kPa], gamma_sat >= gamma_w;
+    phi = 0 is an undrained clay in total stress, whose c is c_u > 0."""
     require_number(f"{table}.gamma", soil.gamma, 0.0, None, unit="kN/m3")
-    require_number(f"{table}.phi", soil.phi, 0.0, 50.0, hi_open=False, unit="deg")
+    require_number(f"{table}.phi", soil.phi, 0.0, 50.0, lo_open=False, hi_open=False, unit="deg")
     require_number(f"{table}.c", soil.c, 0.0, None, lo_open=False, unit="kPa")
+    if soil.phi == 0 and soil.c <= 0:
+        raise InvalidParameter(f"{table}.c", soil.c, "> 0 with phi = 0", "phi = 0 is the undrained case: c is c_u")
     if soil.gamma_sat is not None:
         require_number(f"{table}.gamma_sat", soil.gamma_sat, GAMMA_W, None, lo_open=False, unit="kN/m3")
 
