@@ -30,7 +30,10 @@ import math
 from dataclasses import dataclass, field
 
 from ..errors import InvalidParameter
-from ..inputs import require_number
+from ..inputs import MAX_PRESSURE_KPA, MAX_UNIT_WEIGHT_KN_M3, require_number
+
+MAX_FOOTING_M = 1000.0
+MAX_LOAD_KN = 1e8
 
 
 @dataclass(frozen=True)
@@ -48,6 +51,17 @@ class Bearing:
     factors: dict = field(default_factory=dict)
     H_limit: float = math.inf
     fails: str | None = None      # why the bearing fails (H >= H_limit), else None
+
+
+def _loads(q: float, B: float, L: float, V: float, H: float) -> None:
+    """Overburden, footing size and loads within physical sense (``MAX_*``): a footing
+    up to 1 km, loads up to 1e8 kN."""
+    require_number("q", q, 0.0, MAX_PRESSURE_KPA, lo_open=False, hi_open=False, unit="kPa")
+    require_number("B", B, 0.0, MAX_FOOTING_M, hi_open=False, unit="m")
+    if not math.isinf(L):
+        require_number("L", L, 0.0, MAX_FOOTING_M, hi_open=False, unit="m")
+    require_number("V", V, 0.0, MAX_LOAD_KN, hi_open=False, unit="kN")
+    require_number("H", H, 0.0, MAX_LOAD_KN, lo_open=False, hi_open=False, unit="kN")
 
 
 def _effective(B: float, L: float, e: float, e_L: float) -> tuple[float, float, float, float]:
@@ -71,12 +85,9 @@ def bearing_resistance(*, phi: float, c: float, gamma: float, q: float, B: float
     phi [deg] in (0, 50], c [kPa], gamma [kN/m3] below the base, q [kPa] overburden at
     base level beside the footing, B, L [m], V, H [kN or kN/m] (H along B), e [m]."""
     require_number("phi", phi, 0.0, 50.0, hi_open=False, unit="deg")
-    require_number("c", c, 0.0, None, lo_open=False, unit="kPa")
-    require_number("gamma", gamma, 0.0, None, unit="kN/m3")
-    require_number("q", q, 0.0, None, lo_open=False, unit="kPa")
-    require_number("B", B, 0.0, None, unit="m")
-    require_number("V", V, 0.0, None, unit="kN")
-    require_number("H", H, 0.0, None, lo_open=False, unit="kN")
+    require_number("c", c, 0.0, MAX_PRESSURE_KPA, lo_open=False, hi_open=False, unit="kPa")
+    require_number("gamma", gamma, 0.0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m3")
+    _loads(q, B, L, V, H)
     if method not in ("ec7", "vesic"):
         raise InvalidParameter("method", method, "'ec7' or 'vesic'")
     B_eff, L_eff, A, r = _effective(B, L, e, e_L)
@@ -116,10 +127,8 @@ def bearing_undrained(*, cu: float, q: float, B: float, V: float, H: float = 0.0
     """Undrained bearing resistance, EN 1997-1 Annex D.3 (see the module docstring);
     cu [kPa] > 0. For H > A' cu the base slides before it can bear: the bearing fails
     (``Bearing.fails``, q_ult = R = 0)."""
-    require_number("cu", cu, 0.0, None, unit="kPa")
-    require_number("q", q, 0.0, None, lo_open=False, unit="kPa")
-    require_number("V", V, 0.0, None, unit="kN")
-    require_number("H", H, 0.0, None, lo_open=False, unit="kN")
+    require_number("cu", cu, 0.0, MAX_PRESSURE_KPA, hi_open=False, unit="kPa")
+    _loads(q, B, L, V, H)
     B_eff, L_eff, A, r = _effective(B, L, e, e_L)
     sc = 1 + 0.2 * r
     H_lim = A * cu

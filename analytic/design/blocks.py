@@ -31,7 +31,7 @@ from scipy.optimize import minimize_scalar
 
 from ..drystone import WallSection, crest_width, water_thrust
 from ..errors import InvalidParameter
-from ..inputs import require_number
+from ..inputs import MAX_HEIGHT_M, MAX_UNIT_WEIGHT_KN_M3, require_number
 from .actions import Force, design_backfill, thrust_forces
 from .case import GAMMA_W, DesignCase, design_angle
 from .checks import factor_of, make_check, overturning_moments, resultant
@@ -62,13 +62,13 @@ class BlockWall:
     kind = "blocks"
 
     def __post_init__(self):
-        require_number("wall.height", self.height, 0.0, None, unit="m")
-        require_number("wall.base", self.base, 0.0, None, unit="m")
+        require_number("wall.height", self.height, 0.0, MAX_HEIGHT_M, hi_open=False, unit="m")
+        require_number("wall.base", self.base, 0.0, MAX_HEIGHT_M, hi_open=False, unit="m")
         require_number("wall.front_batter", self.front_batter, -45.0, 45.0, unit="deg")
         require_number("wall.back_batter", self.back_batter, -45.0, 45.0, unit="deg")
         require_number("wall.joint_slope", self.joint_slope, -45.0, 45.0, unit="deg")
         require_number("wall.joint_friction", self.joint_friction, 0.0, 90.0, unit="deg")
-        require_number("wall.unit_weight", self.unit_weight, 0.0, None, unit="kN/m3")
+        require_number("wall.unit_weight", self.unit_weight, 0.0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m3")
         require_number("wall.stair_slope", self.stair_slope, 0.0, 10.0, lo_open=False)
         if isinstance(self.courses, bool) or not isinstance(self.courses, int) or self.courses < 1:
             raise InvalidParameter("wall.courses", self.courses, "an integer >= 1")

@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InvalidParameter
-from ..inputs import require_number
+from ..inputs import MAX_PRESSURE_KPA, MAX_UNIT_WEIGHT_KN_M3, require_number
 from .earth import GAMMA_W, METHODS, Backfill
 
 
@@ -40,17 +40,18 @@ class Foundation:
     cu: float | None = None
 
     def __post_init__(self):
-        require_number("foundation.gamma", self.gamma, 0.0, None, unit="kN/m3")
+        require_number("foundation.gamma", self.gamma, 0.0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m3")
         require_number("foundation.phi", self.phi, 0.0, 50.0, hi_open=False, unit="deg")
-        require_number("foundation.c", self.c, 0.0, None, lo_open=False, unit="kPa")
+        require_number("foundation.c", self.c, 0.0, MAX_PRESSURE_KPA, lo_open=False, hi_open=False, unit="kPa")
         require_number("foundation.base_friction_ratio", self.base_friction_ratio, 0.0, 1.0, hi_open=False)
         if self.base_friction_angle is not None:
             require_number("foundation.base_friction_angle", self.base_friction_angle, 0.0, self.phi,
                            hi_open=False, unit="deg")
-        require_number("foundation.base_adhesion", self.base_adhesion, 0.0, None, lo_open=False, unit="kPa")
+        require_number("foundation.base_adhesion", self.base_adhesion, 0.0, MAX_PRESSURE_KPA, lo_open=False,
+                       hi_open=False, unit="kPa")
         require_number("foundation.embedment", self.embedment, 0.0, None, lo_open=False, unit="m")
         if self.cu is not None:
-            require_number("foundation.cu", self.cu, 0.0, None, unit="kPa")
+            require_number("foundation.cu", self.cu, 0.0, MAX_PRESSURE_KPA, hi_open=False, unit="kPa")
 
     @property
     def delta_b(self) -> float:
@@ -68,7 +69,8 @@ class Loads:
     surcharge_permanent: bool = False
 
     def __post_init__(self):
-        require_number("loads.surcharge", self.surcharge, 0.0, None, lo_open=False, unit="kPa")
+        require_number("loads.surcharge", self.surcharge, 0.0, MAX_PRESSURE_KPA, lo_open=False, hi_open=False,
+                       unit="kPa")
         require_bool("loads.surcharge_permanent", self.surcharge_permanent)
 
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from ..classical import coulomb_coefficient, rankine_coefficient
 from ..errors import InvalidParameter, NotApplicable
 from ..ground import Ground, Layer, earth_pressure
-from ..inputs import Wall, require_number
+from ..inputs import MAX_PRESSURE_KPA, MAX_UNIT_WEIGHT_KN_M3, Wall, require_number
 from ..seismic import mononobe_okabe_coefficient
 from .walls import WallBack
 
@@ -33,9 +33,9 @@ GAMMA_W = 9.81  # kN/m3
 def check_soil(table: str, soil) -> None:
     """gamma > 0 [kN/m3], phi in [0, 50] [deg], c >= 0 [kPa], gamma_sat >= gamma_w;
     phi = 0 is an undrained clay in total stress, whose c is c_u > 0."""
-    require_number(f"{table}.gamma", soil.gamma, 0.0, None, unit="kN/m3")
+    require_number(f"{table}.gamma", soil.gamma, 0.0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m3")
     require_number(f"{table}.phi", soil.phi, 0.0, 50.0, lo_open=False, hi_open=False, unit="deg")
-    require_number(f"{table}.c", soil.c, 0.0, None, lo_open=False, unit="kPa")
+    require_number(f"{table}.c", soil.c, 0.0, MAX_PRESSURE_KPA, lo_open=False, hi_open=False, unit="kPa")
     if soil.phi == 0 and soil.c <= 0:
         raise InvalidParameter(f"{table}.c", soil.c, "> 0 with phi = 0", "phi = 0 is the undrained case: c is c_u")
     if soil.gamma_sat is not None:

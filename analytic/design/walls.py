@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InvalidParameter
-from ..inputs import require_number
+from ..inputs import MAX_HEIGHT_M, MAX_UNIT_WEIGHT_KN_M3, require_number
 from .geometry import Point, area_centroid, clip_above
 
 
@@ -63,7 +63,8 @@ class Part:
 
 
 def _length(name: str, value, *, positive: bool = False) -> float:
-    return require_number(f"wall.{name}", value, 0.0, None, lo_open=positive, unit="m")
+    """A wall dimension [m], within physical sense (MAX_HEIGHT_M: no wall is 100 m high)."""
+    return require_number(f"wall.{name}", value, 0.0, MAX_HEIGHT_M, lo_open=positive, hi_open=False, unit="m")
 
 
 @dataclass(frozen=True)
@@ -105,7 +106,7 @@ class CantileverWall:
             raise InvalidParameter("wall.back_batter", bb, f"[0, stem_base - stem_top = {sb - st:g}] m")
         _length("toe", self.toe)
         _length("heel", self.heel)
-        require_number("wall.unit_weight", self.unit_weight, 0.0, None, unit="kN/m3")
+        require_number("wall.unit_weight", self.unit_weight, 0.0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m3")
         _length("key_depth", self.key_depth)
         _length("key_width", self.key_width)
         if self.key_x is not None and not 0 <= self.key_x <= self.B - self.key_width:
@@ -190,7 +191,7 @@ class GravityWall:
     kind = "gravity"
 
     def __post_init__(self):
-        require_number("wall.unit_weight", self.unit_weight, 0.0, None, unit="kN/m3")
+        require_number("wall.unit_weight", self.unit_weight, 0.0, MAX_UNIT_WEIGHT_KN_M3, hi_open=False, unit="kN/m3")
         if self.polygon is not None:
             self._check_polygon()
             return

@@ -249,7 +249,8 @@ def test_equ_prints_the_actions_it_weighed(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("change, name", [
-    (("heel = ", "heel = 3000 #"), "wall base width B"),            # a length in mm
+    (("heel = ", "heel = 3000 #"), "wall.heel"),                    # a length in mm
+    (("heel = ", "heel = 70 #"), "wall base width B"),              # 12 x the height
     (("embedment = ", "embedment = 9 #"), "foundation.embedment"),  # deeper than the wall is high
 ])
 def test_wall_files_that_make_no_sense_are_refused(tmp_path, capsys, change, name):

@@ -29,9 +29,11 @@ def test_the_example_wall_is_accepted():
     assert case_from_dict(cantilever()).wall.B == pytest.approx(4.7)
 
 
-def test_a_base_in_millimetres_is_refused():
-    """heel = 3000 made B = 3001.7 m beside a 6 m wall and ran."""
-    msg = refused(cantilever(wall={"heel": 3000.0}))
+def test_a_base_in_millimetres_or_out_of_proportion_is_refused():
+    """heel = 3000 made B = 3001.7 m beside a 6 m wall and ran: now past any wall
+    dimension (100 m); a 70 m heel is within that but 12 x the wall's height."""
+    assert refused(cantilever(wall={"heel": 3000.0})).startswith("wall.heel = 3000 is outside the valid range [0, 100] m")
+    msg = refused(cantilever(wall={"heel": 70.0}))
     assert msg.startswith("wall base width B") and "60 m" in msg and "mm" in msg
 
 
