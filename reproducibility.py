@@ -31,6 +31,8 @@ and goes into every result and manifest.
 
 from __future__ import annotations
 
+import copy
+import functools
 import math
 import os
 import sys
@@ -141,7 +143,13 @@ def describe() -> dict:
     """The reproducibility record of this process: its mode, what the mode promises,
     and what each library was found doing. Portable means all three settings are in
     effect (libm answers as the SSE2 variant, numpy runs its baseline loops, OpenBLAS
-    its fixed core on one thread)."""
+    its fixed core on one thread). Read once per process (the libraries chose when they
+    loaded); each caller gets its own copy."""
+    return copy.deepcopy(_probe())
+
+
+@functools.cache
+def _probe() -> dict:
     libm = libm_variant()
     simd = _numpy_simd()
     blas = {k: os.environ.get(k) for k in ("OPENBLAS_CORETYPE", "OPENBLAS_NUM_THREADS")}

@@ -65,7 +65,8 @@ def theory_table(soil: Soil, wall: Wall, *, kh: float = 0.0, kv: float = 0.0,
                      ("khosravi", lambda w: khosravi(soil, w)),
                      ("janssen", lambda w: janssen(soil, w, B))):
         plan.append((name, fn if not passive else active_only))
-    return [_soil_coefficient(row, dict(plan)[row.name], wall) for row in _evaluate(plan, wall)]
+    runs = dict(plan)
+    return [_soil_coefficient(row, runs[row.name], wall) for row in _evaluate(plan, wall)]
 
 
 def _soil_coefficient(row: MethodRow, fn, wall: Wall) -> MethodRow:
@@ -97,25 +98,24 @@ def _design_table(soil, wall, passive, ground, line_loads, strip_loads, adhesion
                   crack_water=False) -> list[MethodRow]:
     ground = ground or Ground.uniform(wall.height, soil.phi_deg, soil.unit_weight)
     why = "derived for a dry, uniform, cohesionless fill without line or strip loads"
-    plan = [(m, (lambda m=m: earth_pressure(ground, wall, m, passive, line_loads=line_loads,
+    plan = [(m, (lambda w, m=m: earth_pressure(ground, w, m, passive, line_loads=line_loads,
                                             strip_loads=strip_loads, adhesion_ratio=adhesion_ratio,
                                             trial_wedge=True, crack_water=crack_water).as_profile()))
             for m in DESIGN_METHODS]
     plan.append(("log-spiral", why if passive else "passive theory (add --passive)"))
     plan += [(m, why) for m in ("jaky", "mononobe-okabe", "handy", "paik-salgado", "khosravi", "janssen")]
-    return _evaluate(plan)
+    return _evaluate(plan, wall)
 
 
-def _evaluate(plan, wall: Wall | None = None) -> list[MethodRow]:
-    """Each (name, fn or the reason it does not apply) of ``plan`` as a row; fn takes
-    ``wall`` when one is given, nothing otherwise."""
+def _evaluate(plan, wall: Wall) -> list[MethodRow]:
+    """Each (name, fn(wall) or the reason it does not apply) of ``plan`` as a row."""
     rows = []
     for name, fn in plan:
         if isinstance(fn, str):
             rows.append(MethodRow(name, None, fn))
             continue
         try:
-            rows.append(MethodRow(name, fn(wall) if wall is not None else fn()))
+            rows.append(MethodRow(name, fn(wall)))
         except NotApplicable as err:
             rows.append(MethodRow(name, None, err.why or str(err)))
     return rows

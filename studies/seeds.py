@@ -118,7 +118,8 @@ def seeds_report(study, cmd, table: dict, seeds: list[int], *, settings: dict, t
             "finished_seeds": [p["seed"] for p in done], "points": points, "figures": figures,
             "settings": settings, "cluster": cluster, "sweep_tables": str(tables),
             "command": "wallsim " + " ".join(sys.argv[1:]) if Path(sys.argv[0]).name in ("cli.py", "wallsim") else None,
-            "git": git_revision(), "versions": package_versions(), "reproducibility": reproducibility.describe(), "wall_time_s": wall_time_s,
+            "git": git_revision(), "versions": package_versions(), "reproducibility": reproducibility.describe(),
+            "wall_time_s": wall_time_s,
             "points_wall_time_s": math.fsum(p["wall_time_s"] or 0.0 for p in done)}
 
 

@@ -179,7 +179,8 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
                         "water_direction": case.water_direction, "increment_fraction": case.increment_fraction,
                         "block_length_m": case.block_length, "block_height_m": case.block_height, "collision_slop_m": 1e-4,
                         "unit_weight_kN_m3": case.unit_weight_kN_m3},
-           "note": RIGID_NOTE, "git": git, "versions": package_versions(), "reproducibility": reproducibility.describe(),
+           "note": RIGID_NOTE, "git": git, "versions": package_versions(),
+           "reproducibility": reproducibility.describe(),
            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
            "wall_time_s": time.perf_counter() - t0, "cpu_time_s": time.process_time() - c0}
     old = out_dir / "drystone.json"

@@ -189,7 +189,8 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
                      "formwork": b.formwork, "hold_depth_m": b.hold_depth_m, "hold_distance_m": b.hold_distance_m},
         "local_values": local_values, "assumptions": tagged_assumptions(assumptions_by_wall), "note": RIGID_NOTE,
         "command": " ".join(sys.argv), "runs_root": str(root),
-        "command_git": git, "versions": package_versions(), "reproducibility": reproducibility.describe(), "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        "command_git": git, "versions": package_versions(), "reproducibility": reproducibility.describe(),
+        "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command_wall_time_s": time.perf_counter() - t0, "command_cpu_time_s": time.process_time() - c0}
     write_report(rep, out_dir)
     atomic_write(path, (json.dumps(to_plain(rep), indent=2) + "\n").encode())

@@ -45,7 +45,8 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
 
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    report = {"case": "nadukuru", "versions": package_versions(), "reproducibility": reproducibility.describe(), "git": git_revision(),
+    report = {"case": "nadukuru", "versions": package_versions(), "reproducibility": reproducibility.describe(),
+              "git": git_revision(),
               "recipe": to_plain(base.specimen), "seed": base.seed, "walls": {}}
     phi, phi_src = _phi_for_theories(base, report, triaxial, root, progress, log)
     report["phi_for_theories"] = {"deg": phi, "source": phi_src}

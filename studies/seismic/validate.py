@@ -180,7 +180,8 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
     old = json.loads(path.read_text()) if path.is_file() else None
     default = SeismicCase().resolution
     if case.resolution == default or old is None or old.get("resolution") != default:
-        rep = block | {"trends_across_frequencies": across_frequencies(freqs), "versions": package_versions(), "reproducibility": reproducibility.describe(),
+        rep = block | {"trends_across_frequencies": across_frequencies(freqs), "versions": package_versions(),
+                       "reproducibility": reproducibility.describe(),
                        "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
                                  "../shared/reference/seismic-sheetpile.md"}
         if old is not None and case.resolution == default and "other_resolutions" in old:
