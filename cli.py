@@ -385,7 +385,7 @@ def _add_study_command(sub, study, cmd) -> None:
         if any(o.flag == new for o in cmd.options):
             p.add_argument(old, action=_Renamed, nargs="?", help=argparse.SUPPRESS)
     if cmd.seed_key is not None:
-        p.add_argument("--seed", type=_argparse_type(_count_value("seed"), "seed"), default=argparse.SUPPRESS,
+        p.add_argument("--seed", default=argparse.SUPPRESS, metavar="SEED",
                        help=f"random seed ({cmd.seed_default})")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", default=[],
                    help="override any case field (after --config and the flags); `wallsim keys "
@@ -423,10 +423,12 @@ def case_from_args(cmd, args):
     """The case a study command runs: only the flags the user typed count (the others
     are absent from ``args``), then ``cmd.resolve`` applies the precedence rule."""
     flags = typed_flags(cmd, args)
+    names = {o.key: o.flag for o in cmd.options if o.key is not None}
     if hasattr(args, "seed"):
         flags[cmd.seed_key] = args.seed
+        names[cmd.seed_key] = "--seed"
     return cmd.resolve(config=args.config, flags=flags, sets=args.set, resume=getattr(args, "resume", None),
-                       study=args.study)
+                       study=args.study, flag_names=names)
 
 
 def _setting_sources(cmd, args) -> dict[str, str]:
@@ -438,12 +440,10 @@ def _setting_sources(cmd, args) -> dict[str, str]:
 
 
 def _cmd_study(cmd, args) -> int:
-    import studies.runner as runner
     from analytic.errors import InvalidParameter
     from studies.runner import finished_result
 
-    runner.current_folder = None          # this command's folder, not an earlier one's
-    if getattr(args, "seeds", None) is not None:
+    if getattr(args, "seeds", None) is not None and not any(o.flag == "--seeds" for o in cmd.options):
         return _cmd_seeds(cmd, args)
     if getattr(args, "workers", None) is not None or getattr(args, "scheduler", None) is not None:
         raise InvalidParameter("--workers/--scheduler", args.workers or args.scheduler, "only with --seeds")
@@ -452,14 +452,13 @@ def _cmd_study(cmd, args) -> int:
     if resume is not None and finished_result(resume) is not None:
         print(f"{resume} holds a finished run (result.json): nothing to resume", file=sys.stderr)
         return 0
-    if cmd.busy_note:
-        _note_if_busy()
     opts = cmd.run_options(**{o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None},
                            out=args.out, quiet=args.quiet)
-    result, where = cmd.run(case, opts)
-    if resume is None:
-        from studies.runner import annotate_config
-        annotate_config(_setting_sources(cmd, args), result)
+    _check_run_options(opts)
+    if cmd.busy_note:
+        _note_if_busy()
+    with cmd.envelope(case, _setting_sources(cmd, args)):
+        result, where = cmd.run(case, opts)
     if args.json:
         from studies.runfolder import to_plain
         print(json.dumps(to_plain(result), indent=2, default=str))     # NaN -> null: JSON has no NaN
@@ -472,6 +471,17 @@ def _cmd_study(cmd, args) -> int:
     return 0
 
 
+def _check_run_options(opts) -> None:
+    """Run options that contradict each other or name a folder that cannot be written:
+    refused before any work and any folder."""
+    from analytic.errors import InvalidParameter
+    from studies.options import writable_root
+
+    if isinstance(getattr(opts, "rrd", None), str) and getattr(opts, "no_rrd", False):
+        raise InvalidParameter("--rrd", opts.rrd, "a recording path without --no-rrd", "the two contradict")
+    writable_root("out", opts.out)
+
+
 def _cmd_seeds(cmd, args) -> int:
     """``--seeds``: the command once per seed on Dask, the seeds report (studies/seeds.py)."""
     from analytic.errors import InvalidParameter
@@ -480,15 +490,16 @@ def _cmd_seeds(cmd, args) -> int:
 
     if hasattr(args, "seed"):
         raise InvalidParameter("--seed", args.seed, "none when --seeds is given", "--seeds names every seed")
+    import time
     options = {o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None}
+    started = time.time()
     try:
         report = run_seeds(args.study, args.seeds, verb=cmd.verb, config=args.config, flags=typed_flags(cmd, args),
                            sets=args.set,
                            options=options, out=args.out, workers=args.workers, scheduler=args.scheduler,
                            quiet=args.quiet)
     except KeyboardInterrupt:
-        print(f"wallsim: interrupted; the finished seeds are in their run folders under "
-              f"{os.path.join(args.out, args.study)}, and the same command runs the rest", file=sys.stderr)
+        print(f"wallsim: interrupted; {_finished_since(args.out, args.study, started, 'seeds')}", file=sys.stderr)
         return EXIT_INTERRUPTED
     print(json.dumps(to_plain(report), indent=2) if args.json else seeds_text(report))
     failed = [p for p in report["points"] if p["status"] == "failed"]
@@ -496,6 +507,21 @@ def _cmd_seeds(cmd, args) -> int:
         print(f"wallsim: seed {p['seed']} failed: {p['error']}", file=sys.stderr)
     print(f"seeds report: {report['paths']['md']}", file=sys.stderr)
     return 1 if failed else 0
+
+
+def _finished_since(out: str, study: str, started: float, what: str) -> str:
+    """What an interrupted sweep left, from the files that exist: the finished runs
+    (result.json written since ``started``) and sweep.csv, or that nothing was written."""
+    from pathlib import Path
+    root = Path(out) / study
+    done = [p for p in root.glob("*/result.json") if p.stat().st_mtime >= started] if root.is_dir() else []
+    table = Path(out) / "sweep.csv"
+    if not done and not (table.is_file() and table.stat().st_mtime >= started):
+        return "nothing was written"
+    said = f"{len(done)} finished {what} in their run folders under {root}"
+    if table.is_file() and table.stat().st_mtime >= started:
+        said += f", and {table}"
+    return said + "; the same command runs the rest"
 
 
 def _note_if_busy() -> None:
@@ -541,13 +567,14 @@ def _cmd_sweep(args) -> int:
     from studies import get
     from studies.sweep import parse_options, parse_vary, run_sweep, sweep_text
 
+    import time
     varied, options = parse_vary(args.vary), parse_options(get(args.study).command(), args.option)
+    started = time.time()
     try:
         table = run_sweep(args.study, varied, config=args.config, sets=args.set, out=args.out, workers=args.workers,
                           scheduler=args.scheduler, quiet=args.quiet, outputs=args.outputs, options=options or None)
     except KeyboardInterrupt:
-        print(f"wallsim: interrupted; the finished points and sweep.csv are in {args.out}, and the same command "
-              "runs the rest", file=sys.stderr)
+        print(f"wallsim: interrupted; {_finished_since(args.out, args.study, started, 'points')}", file=sys.stderr)
         return EXIT_INTERRUPTED
     from studies.runfolder import to_plain
     print(json.dumps(to_plain(table), indent=2) if args.json else sweep_text(table))     # NaN -> null
@@ -566,6 +593,7 @@ def _add_keys(sub) -> None:
                                    "and a --config TOML file take them (tables for dotted keys).")
     p.add_argument("study", choices=list(NAMES))
     p.add_argument("--verb", default=None, help="the command whose case to list (the study's first)")
+    p.add_argument("--json", action="store_true", help="key, default, unit, valid, meaning of every key as JSON")
     p.set_defaults(func=_cmd_keys)
 
 
@@ -574,8 +602,16 @@ def _cmd_keys(args) -> int:
     from studies.config import describe_keys
 
     cmd = get(args.study).command(args.verb)
-    for key, default, note in describe_keys(cmd.default_case()):
-        print(f"{key:34s} {str(default):>14s}  {note}")
+    rows = describe_keys(cmd.default_case())
+    if args.json:
+        from studies.runfolder import to_plain
+        print(json.dumps([to_plain(r) for r in rows], indent=2))
+        return 0
+    for r in rows:      # two lines a key: nothing is cut, whatever the terminal's width
+        default = ", ".join(map(str, r.default)) if isinstance(r.default, tuple) else str(r.default)
+        unit = "" if r.unit in ("-", "") else f" [{r.unit}]"
+        print(f"{r.key}{unit} = {default}    valid: {r.valid}")
+        print(f"    {r.meaning}")
     return 0
 
 
@@ -708,13 +744,17 @@ def main(argv: list[str] | None = None) -> int:
 
     interrupts = _watch_interrupts()
     try:
-        args = build_parser().parse_args(argv)
+        parser = build_parser()
+        if not (sys.argv[1:] if argv is None else argv):
+            parser.print_help(sys.stderr)       # no command: what there is to run, not only an error
+            return EXIT_BAD_INPUT
+        args = parser.parse_args(argv)
         return args.func(args)
     except InvalidParameter as err:
         sys.stderr.write(f"wallsim: error: {err}\n")
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        return _interrupted(argv)
+    except KeyboardInterrupt as err:
+        return _interrupted(argv, getattr(err, "folder", None))
     except BrokenPipeError:
         return _reader_went_away()
     except Exception:
@@ -759,9 +799,9 @@ def _watch_interrupts() -> list:
     return seen
 
 
-def _interrupted(argv) -> int:
+def _interrupted(argv, folder=None) -> int:
     from studies.runner import interrupted_line
-    sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv))}\n")
+    sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv), folder)}\n")
     return EXIT_INTERRUPTED
 
 

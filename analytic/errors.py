@@ -10,7 +10,9 @@ from __future__ import annotations
 class InvalidParameter(ValueError):
     """A parameter outside the range where the method has a real solution.
 
-    ``str(err)`` is one line: ``<name> = <value> is outside the valid range <range>``.
+    ``str(err)`` is one line: ``<name> = <value> is outside the valid range <range>``,
+    or ``<name> = <value> is not valid; expected <what>`` when ``valid`` names a kind of
+    value ("a whole number in [1, 500]", "true or false") rather than a range.
     """
 
     def __init__(self, name: str, value, valid: str, why: str = ""):
@@ -19,7 +21,12 @@ class InvalidParameter(ValueError):
         self.valid = valid
         self.why = why
         shown = f"{value:g}" if isinstance(value, float) else repr(value) if isinstance(value, str) else str(value)
-        msg = f"{name} = {shown} is outside the valid range {valid}"
+        if valid.startswith(("a ", "an ", "true or false")):
+            msg = f"{name} = {shown} is not valid; expected {valid}"
+        elif " | " in valid and not valid.startswith(("(", "[", "<", ">")):
+            msg = f"{name} = {shown} is not valid; expected one of {valid}"
+        else:
+            msg = f"{name} = {shown} is outside the valid range {valid}"
         if why:
             msg += f" ({why})"
         super().__init__(msg)

@@ -42,18 +42,19 @@ class Spec:
     hi: float | None = None
     lo_open: bool = False
     hi_open: bool = False
+    may_be_empty: bool = False
 
     def bounds_text(self) -> str:
         """'(0, 80) deg', '>= 50', or '' when unbounded."""
         u = f" {self.unit}" if self.unit not in ("", "-") else ""
-        lo, hi = self.lo, self.hi
+        lo, hi = _bound(self.lo), _bound(self.hi)
         if lo is None and hi is None:
             return ""
         if hi is None:
-            return f"{'>' if self.lo_open else '>='} {lo:g}{u}"
+            return f"{'>' if self.lo_open else '>='} {lo}{u}"
         if lo is None:
-            return f"{'<' if self.hi_open else '<='} {hi:g}{u}"
-        return f"{'(' if self.lo_open else '['}{lo:g}, {hi:g}{')' if self.hi_open else ']'}{u}"
+            return f"{'<' if self.hi_open else '<='} {hi}{u}"
+        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}{u}"
 
     def contains(self, x: float) -> bool:
         if self.lo is not None and (x < self.lo or (self.lo_open and x == self.lo)):
@@ -61,10 +62,20 @@ class Spec:
         return not (self.hi is not None and (x > self.hi or (self.hi_open and x == self.hi)))
 
 
+def _bound(x) -> str | None:
+    """A bound as text: whole numbers in full (4294967295, not 4.29497e+09)."""
+    if x is None:
+        return None
+    if float(x).is_integer() and abs(x) < 1e16:
+        return str(int(x))
+    return f"{x:g}"
+
+
 def param(default=MISSING, *, meaning: str, unit: str = "-", lo: float | None = None, hi: float | None = None,
-          lo_open: bool = False, hi_open: bool = False, factory=MISSING):
-    """A declared case field (``dataclasses.field`` with its ``Spec`` as metadata)."""
-    spec = Spec(meaning, unit, lo, hi, lo_open, hi_open)
+          lo_open: bool = False, hi_open: bool = False, may_be_empty: bool = False, factory=MISSING):
+    """A declared case field (``dataclasses.field`` with its ``Spec`` as metadata);
+    ``may_be_empty``: a list field that may hold nothing (``none`` on the command line)."""
+    spec = Spec(meaning, unit, lo, hi, lo_open, hi_open, may_be_empty)
     return dataclasses.field(default=default, default_factory=factory, metadata={"spec": spec})
 
 
@@ -122,7 +133,8 @@ def valid_text(typ, spec: Spec | None) -> str:
         text = " | ".join(map(str, typing.get_args(base)))
     else:
         text = _kind(base) + (f" in {bounds}" if bounds and bounds[0] in "([" else f" {bounds}" if bounds else "")
-    return text + (" or none" if optional else "")
+    return text + (" or none" if optional or (spec is not None and spec.may_be_empty and inner is not None)
+                   else "")
 
 
 def _kind(typ, plural: bool = False) -> str:
@@ -161,6 +173,8 @@ def check_value(name: str, value, typ, spec: Spec | None):
         if isinstance(value, (str, bytes)) or not isinstance(value, (tuple, list)):
             raise InvalidParameter(name, value, valid_text(typ, spec))
         if len(value) == 0:
+            if spec is not None and spec.may_be_empty:
+                return ()
             raise InvalidParameter(name, "", valid_text(typ, spec), "the list is empty")
         return tuple(_check_one(name, v, inner, spec, typ) for v in value)
     return _check_one(name, value, base, spec, typ)

@@ -35,7 +35,7 @@ import numpy as np
 import pymunk
 
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.schema import check_fields, param, seed_param
 
 from .build import Grains, add_disks, friction_split, new_space
 from .grading import Grading
@@ -49,55 +49,56 @@ RHO_WATER = 1000.0
 
 @dataclass(frozen=True)
 class BiaxialCase:
-    """Biaxial test settings (module docstring).
+    """Biaxial test settings (module docstring)."""
 
-    width, height:    target specimen size after compaction [m] (sizes the grain count)
-    d50, cu, particles_scale, gs: grading and grain density (as the backfill)
-    friction:         particle-particle coefficient during shearing [-]
-    prep_friction:    particle-particle coefficient during compaction [-]
-    confining:        sigma_3 [Pa] (Khosravi: 4 kPa; also 2, 3, 5)
-    target_fraction:  expected solid fraction after compaction (sizes the grain count) [-]
-    strain_rate:      axial strain rate [1/s]
-    max_strain:       end of the test, axial strain [-]
-    piston_mass_fraction: mass of the lateral piston / mass of the specimen [-]
-    compaction_rate:  piston speed limit / current specimen size [1/s]
-    sample_every:     steps between samples of the stresses
-    seed:             random seed
-    solver:           dt 2e-4 s, 80 sweeps a step, as the Khosravi readings it calibrates
-                      (with 10 the full-size specimen over-compacts to a solid fraction of
-                      0.91 and phi reads ~3 deg high at mu 0.3; from 40 to 80 the peak at
-                      mu 0.43 falls from 20.7 to 19.5 deg, the critical state stays at
-                      18.0; docs/dem2d.md)
-    """
-
-    width: float = 0.07
-    height: float = 0.20
-    d50: float = 1.16e-3
-    cu: float = 1.55
-    particles_scale: float = 1.0
-    gs: float = 2.65
-    friction: float = 0.5
-    prep_friction: float = 0.25
-    confining: float = 4000.0
-    target_fraction: float = 0.82
-    strain_rate: float = 0.2
-    max_strain: float = 0.10
-    piston_mass_fraction: float = 0.05
-    compaction_rate: float = 1.5
-    sample_every: int = 50
-    seed: int = 1
+    # the specimen sets the disk count, width height target_fraction / mean disk area (12.7k at
+    # 70 x 200 mm of the paper's grains, ~10 min a test at 80 sweeps): 1 m x 0.2 m is ~180k disks,
+    # 0.07 m x 2 m ~130k; the product with the grain size is bounded below (1e6 disks)
+    width: float = param(0.07, unit="m", lo=0, hi=1, lo_open=True,
+                         meaning="target specimen width after compaction (sizes the grain count; paper ~70 mm)")
+    height: float = param(0.20, unit="m", lo=0, hi=2, lo_open=True,
+                          meaning="target specimen height after compaction (sizes the grain count; paper ~200 mm)")
+    # below 0.25 x the paper's D50 the paper's specimen holds > 16 x its 12.7k disks
+    d50: float = param(1.16e-3, unit="m", lo=2.5e-4, meaning="median disk diameter by mass, as the backfill (1.16 mm)")
+    cu: float = param(1.55, lo=1, hi=6, hi_open=True,
+                      meaning="uniformity coefficient D60 / D10 of the linear-by-mass grading, as the backfill (1.55)")
+    # 0.25: 16 x the paper's disks, ~200k in its specimen
+    particles_scale: float = param(1.0, lo=0.25, meaning="multiply every diameter by this (coarser grains, same "
+                                                          "specimen; 1 = ~12.7k disks)")
+    gs: float = param(2.65, lo=0, hi=20, lo_open=True, meaning="specific gravity of the grains, as the backfill (2.65)")
+    friction: float = param(0.5, lo=0, meaning="particle-particle coefficient during shearing")
+    prep_friction: float = param(0.25, lo=0,
+                                 meaning="particle-particle coefficient during compaction (lower = denser)")
+    confining: float = param(4000.0, unit="Pa", lo=0, lo_open=True,
+                             meaning="confining stress sigma_3 (Khosravi: 4 kPa; also 2, 3, 5)")
+    target_fraction: float = param(0.82, lo=0, hi=0.907, lo_open=True, hi_open=True,
+                                   meaning="expected solid fraction after compaction (sizes the grain count)")
+    # steps = max_strain / (strain_rate dt): at 1e-3 /s a 0.1-strain test is 5e5 steps, ~8 h at
+    # 12.7k disks (~60 ms a step at 80 sweeps); below it days a test
+    strain_rate: float = param(0.2, unit="1/s", lo=1e-3,
+                               meaning="axial strain rate (inertial number ~2e-4 at 0.2 /s and 4 kPa: quasi-static)")
+    max_strain: float = param(0.10, lo=0, hi=0.5, lo_open=True, hi_open=True, meaning="axial strain that ends the test")
+    piston_mass_fraction: float = param(0.05, lo=0, hi=1, lo_open=True,
+                                        meaning="mass of the lateral piston / mass of the specimen")
+    compaction_rate: float = param(1.5, unit="1/s", lo=0, hi=10, lo_open=True,
+                                   meaning="piston speed limit while compacting / current specimen size")
+    # a test is at least sample_every steps a sample: 10,000 are 2 s at 2e-4 s, ~10 min at 12.7k disks
+    sample_every: int = param(50, lo=1, hi=10_000, meaning="steps between samples of the stresses")
+    seed: int = seed_param(1, meaning="random seed of the specimen: grain sizes, cloud positions, insertion order")
+    # dt 2e-4 s, 80 sweeps a step, as the Khosravi readings it calibrates (with 10 the
+    # full-size specimen over-compacts to a solid fraction of 0.91 and phi reads ~3 deg high
+    # at mu 0.3; from 40 to 80 the peak at mu 0.43 falls from 20.7 to 19.5 deg, the critical
+    # state stays at 18.0; docs/dem2d.md)
     solver: Solver = field(default_factory=lambda: Solver(dt=2e-4, iterations=80))
 
     def __post_init__(self):
-        require_number("width", self.width, 0.0, None, unit="m")
-        require_number("height", self.height, 0.0, None, unit="m")
-        require_number("friction", self.friction, 0.0, None, lo_open=False)
-        require_number("prep_friction", self.prep_friction, 0.0, None, lo_open=False)
-        require_number("confining", self.confining, 0.0, None, unit="Pa")
-        require_number("strain_rate", self.strain_rate, 0.0, None, unit="1/s")
-        require_number("max_strain", self.max_strain, 0.0, 0.5)
-        if not (isinstance(self.sample_every, int) and self.sample_every >= 1):
-            raise InvalidParameter("sample_every", self.sample_every, "an integer >= 1")
+        check_fields(self)
+        # ~4.2 kB a packed disk in pymunk (4 GB at 1e6) and ~20 s a step at 80 sweeps: ~3 days a test
+        disks = self.width * self.height * self.target_fraction / self.grading.mean_area()
+        if disks > 1_000_000:
+            least = self.particles_scale * math.sqrt(disks / 1_000_000)
+            raise InvalidParameter("particles_scale", self.particles_scale, f">= {least:.3g}",
+                                   f"~{disks:,.0f} disks, more than 1,000,000: coarser grains or a smaller specimen")
 
     @property
     def grading(self) -> Grading:

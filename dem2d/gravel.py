@@ -47,12 +47,14 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 import pymunk
 
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
+from analytic.schema import check_fields, param
 
 from .blocks import BLOCK_TYPE, G, BlockSolver, new_block_space, pair_friction
 from .build import GRAIN_TYPE, Grains, union_mass_properties
@@ -67,43 +69,40 @@ HEX_ROUND = 0.1
 
 @dataclass(frozen=True)
 class Gravel:
-    """The backfill gravel (S-OET, reference 3.1).
+    """The backfill gravel (S-OET, reference 3.1): grading, grain shape, density and local
+    frictions."""
 
-    width_min_m, width_max_m: grading of the grain *widths*, linear by mass [m] (10-16 mm)
-    aspect_ratio:     length / width of a grain [-] (2.5)
-    density:          solid density [kg/m^3 per m of wall]. ASSUMPTION: 1947, so that the
-                      bulk unit weight at n = 0.22 is the measured loose 14.9 kN/m^3
-                      (rho = 14900 / (g (1 - 0.22))); 2D grains have no 3D solid density.
-    friction_deg:     local fill-fill friction [deg] (S-OET: 45, calibrated for PFC's soft
-                      contacts; ours for rigid rounded hexagons, 50, is in the case-B settings:
-                      docs/validation/gravel_calibration.md)
-    interface_friction_deg: local fill-block friction [deg] (S-OET: 25; ours: the same report)
-    placement_friction_deg: fill-fill friction while placing [deg] (S-OET: 15.6; ours 45)
-    shape:            "capsule" (default) | "clump3" | "hexagon" (module docstring)
-    """
-
-    width_min_m: float = 0.010
-    width_max_m: float = 0.016
-    aspect_ratio: float = 2.5
-    density: float = 14900.0 / (G * 0.78)
-    friction_deg: float = 45.0
-    interface_friction_deg: float = 25.0
-    placement_friction_deg: float = 15.6
-    shape: str = "capsule"
+    # the grain count of a box goes as 1 / w^2: 1 mm grains put ~4e5 grains in the 0.7 x 1.4 m
+    # biaxial specimen (~1.4 GB at ~3.4 KB a pymunk grain; ~1 h a test at 3.8e5 grain-steps
+    # per CPU-s); the case-B fill bounds its own grains tighter (BackfillSettings)
+    width_min_m: float = param(0.010, unit="m", lo=0.001, hi=1, hi_open=True,
+                               meaning="smallest grain width of the linear grading by mass (S-OET: 10 mm)")
+    width_max_m: float = param(0.016, unit="m", lo=0.001, hi=1, hi_open=True,
+                               meaning="largest grain width of the grading, >= width_min_m (S-OET: 16 mm)")
+    aspect_ratio: float = param(2.5, lo=1, hi=10, meaning="grain length / width (S-OET: 2.5; clump3 below 3)")
+    # ASSUMPTION: 1947, so that the bulk unit weight at n = 0.22 is the measured loose 14.9 kN/m^3
+    # (rho = 14900 / (g (1 - 0.22))); 2D grains have no 3D solid density
+    density: float = param(14900.0 / (G * 0.78), unit="kg/m^3", lo=0, lo_open=True,
+                           meaning="solid density per m of wall (ASSUMPTION 1947: the loose 14.9 kN/m^3 at n = 0.22)")
+    # S-OET's 45 is calibrated for PFC's soft contacts; ours for rigid rounded hexagons, 50, is in
+    # the case-B settings (docs/validation/gravel_calibration.md)
+    friction_deg: float = param(45.0, unit="deg", lo=0, hi=89,
+                                meaning="local fill-fill friction angle while shearing (S-OET: 45)")
+    interface_friction_deg: float = param(25.0, unit="deg", lo=0, hi=89,
+                                          meaning="local fill-block friction angle (S-OET: 25)")
+    placement_friction_deg: float = param(15.6, unit="deg", lo=0, hi=89,
+                                          meaning="fill-fill friction angle while the grains are placed (S-OET: 15.6)")
+    shape: Literal["capsule", "clump3", "hexagon"] = param(
+        "capsule", unit="", meaning="grain shape: capsule, clump3 (three circles) or hexagon (rounded; dem2d.gravel)")
 
     def __post_init__(self):
-        if self.shape not in SHAPES:
-            raise InvalidParameter("shape", self.shape, " | ".join(SHAPES))
+        check_fields(self)
         if self.shape == "clump3" and not self.aspect_ratio < 3.0:
             raise InvalidParameter("aspect_ratio", self.aspect_ratio, "[1, 3) for clump3",
                                    "three circles of diameter w overlap only below AR 3")
-        require_number("width_min", self.width_min_m, 0.0, 1.0, unit="m")
-        require_number("width_max", self.width_max_m, self.width_min_m, 1.0, lo_open=False, unit="m")
-        require_number("aspect_ratio", self.aspect_ratio, 1.0, 10.0, lo_open=False, hi_open=False, unit="")
-        require_number("density", self.density, 0.0, None, unit="kg/m^3")
-        for name in ("friction_deg", "interface_friction_deg", "placement_friction_deg"):
-            require_number(name.removesuffix("_deg"), getattr(self, name), 0.0, 89.0, lo_open=False,
-                           hi_open=False, unit="deg")
+        if not self.width_max_m >= self.width_min_m:
+            raise InvalidParameter("width_max_m", self.width_max_m, f"[{self.width_min_m:g}, 1) m",
+                                   "the largest grain is at least the smallest")
 
     @property
     def grading(self) -> Grading:

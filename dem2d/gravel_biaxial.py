@@ -32,7 +32,7 @@ import numpy as np
 import pymunk
 
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.schema import check_fields, param, seed_param
 
 from .biaxial import BiaxialTest
 from .build import Grains, new_space
@@ -42,49 +42,50 @@ from .params import Material, Solver
 
 @dataclass(frozen=True)
 class GravelBiaxialCase:
-    """Biaxial test of the gravel (module docstring).
+    """Biaxial test of the gravel (module docstring). ``gravel``: grain shape, grading,
+    density; its ``friction_deg`` is the local friction while shearing,
+    ``placement_friction_deg`` while compacting.
 
-    gravel:           grain shape, grading, density; its ``friction_deg`` is the local
-                      friction while shearing, ``placement_friction_deg`` while compacting
-    width, height:    specimen size after compaction [m] (sizes the grain count; 0.5 x 1.0:
-                      about 15 grain lengths across, 1,000 grains)
-    confining:        sigma_3 [Pa] (S-OET's representative mean stress: 35 kPa)
-    target_fraction:  expected solid fraction (sizes the grain count) [-] (1 - 0.22)
-    strain_rate:      axial strain rate [1/s] (inertial number ~6e-4 at 0.2)
-    max_strain:       end of the test [-]
-    piston_mass_fraction, compaction_rate, sample_every, seed: as ``BiaxialCase``
-    solver:           dt 5e-4 s, 40 sweeps a step, slop 1e-4 m (slop_fraction x w_min / 2),
-                      overlap time 0.02 s: the block solver's settings (``BlockSolver``).
-                      Sweeps measured (local 45 deg, n = 0.20, 1,069 grains, seed 1,
-                      strain rate 0.05/s; critical state, eps_v at 20 % strain): 10 -> the
-                      specimen never stops compacting (eps_v +5 %, phi still rising past
-                      40 deg: the unconverged solver lets grains creep into one another);
-                      20 -> 31.3 deg, +2.4 %; 40 -> 27.4 deg, 0.0 %; 80 -> 28.7 deg, -1.6 %.
+    solver: dt 5e-4 s, 40 sweeps a step, slop 1e-4 m (slop_fraction x w_min / 2), overlap
+    time 0.02 s: the block solver's settings (``BlockSolver``). Sweeps measured (local
+    45 deg, n = 0.20, 1,069 grains, seed 1, strain rate 0.05/s; critical state, eps_v at
+    20 % strain): 10 -> the specimen never stops compacting (eps_v +5 %, phi still rising
+    past 40 deg: the unconverged solver lets grains creep into one another); 20 -> 31.3 deg,
+    +2.4 %; 40 -> 27.4 deg, 0.0 %; 80 -> 28.7 deg, -1.6 %.
     """
 
     gravel: Gravel = Gravel()
-    width: float = 0.5
-    height: float = 1.0
-    confining: float = 35e3
-    target_fraction: float = 0.78
-    strain_rate: float = 0.2
-    max_strain: float = 0.20
-    piston_mass_fraction: float = 0.05
-    compaction_rate: float = 1.5
-    sample_every: int = 10
-    seed: int = 1
+    # ~2,350 grains per m^2 of 10-16 mm hexagons, ~3.4 KB each in pymunk, 3.8e5 grain-steps per
+    # CPU-s at 40 sweeps: 10 m x 1.4 m is ~33,000 grains, ~6 min a test of ~4,000 steps;
+    # 10 m x 10 m ~2.4e5 grains (~0.8 GB), ~45 min
+    width: float = param(0.5, unit="m", lo=0, hi=10, lo_open=True,
+                         meaning="specimen width after compaction, at least 5 grain lengths (sizes the grain count)")
+    height: float = param(1.0, unit="m", lo=0, hi=10, lo_open=True,
+                          meaning="specimen height after compaction, at least 5 grain lengths (sizes the grain count)")
+    confining: float = param(35e3, unit="Pa", lo=0, hi=1e8, lo_open=True, hi_open=True,
+                             meaning="confining stress sigma_3 (S-OET's representative mean stress: 35 kPa)")
+    target_fraction: float = param(0.78, lo=0.3, hi=0.95, lo_open=True, hi_open=True,
+                                   meaning="expected solid fraction, sizes the grain count (1 - 0.22)")
+    # steps = max_strain / (strain_rate dt): at 1e-3 /s a 0.2-strain test is 4e5 steps, ~40 min at
+    # 2,300 grains (3.8e5 grain-steps per CPU-s); below it hours a test
+    strain_rate: float = param(0.2, unit="1/s", lo=1e-3, hi=10, hi_open=True,
+                               meaning="axial strain rate (inertial number ~6e-4 at 0.2)")
+    max_strain: float = param(0.20, lo=0, hi=0.5, lo_open=True, hi_open=True, meaning="axial strain that ends the test")
+    piston_mass_fraction: float = param(0.05, lo=0, hi=1, lo_open=True,
+                                        meaning="mass of the lateral piston / mass of the specimen")
+    compaction_rate: float = param(1.5, unit="1/s", lo=0, hi=10, lo_open=True,
+                                   meaning="piston speed limit while compacting / current specimen size")
+    sample_every: int = param(10, lo=1, hi=10_000, meaning="steps between samples of the stresses")
+    seed: int = seed_param(1, meaning="random seed of the specimen: grain sizes, orientations")
     solver: Solver = field(default_factory=lambda: Solver(dt=5e-4, iterations=40, slop_fraction=0.02))
 
     def __post_init__(self):
-        require_number("width", self.width, 5 * self.gravel.aspect_ratio * self.gravel.width_max_m, 100.0, unit="m")
-        require_number("height", self.height, 5 * self.gravel.aspect_ratio * self.gravel.width_max_m, 100.0,
-                       unit="m")
-        require_number("confining", self.confining, 0.0, 1e8, unit="Pa")
-        require_number("target_fraction", self.target_fraction, 0.3, 0.95, unit="")
-        require_number("strain_rate", self.strain_rate, 0.0, 10.0, unit="1/s")
-        require_number("max_strain", self.max_strain, 0.0, 0.5)
-        if not (isinstance(self.sample_every, int) and self.sample_every >= 1):
-            raise InvalidParameter("sample_every", self.sample_every, "an integer >= 1")
+        check_fields(self)
+        least = 5 * self.gravel.aspect_ratio * self.gravel.width_max_m
+        for name in ("width", "height"):
+            if not getattr(self, name) > least:
+                raise InvalidParameter(name, getattr(self, name), f"({least:g}, 10] m",
+                                       "at least 5 lengths of the largest grain")
 
     # what dem2d.biaxial reads
     @property

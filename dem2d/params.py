@@ -26,37 +26,36 @@ from dataclasses import dataclass
 
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
+from analytic.schema import check_fields, param
 
 
 @dataclass(frozen=True)
 class Solver:
-    """Integration and contact-solver settings.
+    """Integration and contact-solver settings (module docstring)."""
 
-    dt:             time step [s]
-    iterations:     solver sweeps per step [-]
-    slop_fraction:  allowed overlap as a fraction of the smallest grain radius [-]
-    overlap_time:   time constant of the overlap correction [s] (sets collision_bias)
-    spatial_hash:   use pymunk's spatial hash (cell = largest diameter) instead of the
-                    bounding-box tree for the broad phase
-    threads:        1 = serial and bit-for-bit repeatable; 2 = Chipmunk's threaded
-                    "hasty" solver (not repeatable; ../shared/STACK.md 1.8)
-    """
-
-    dt: float = 1e-4
-    iterations: int = 10
-    slop_fraction: float = 0.02
-    overlap_time: float = 0.02
-    spatial_hash: bool = True
-    threads: int = 1
+    # below 1e-5 s the full Khosravi case (~1e4 steps at 2e-4 s, ~0.6 s a step at 61k disks
+    # and 80 sweeps) needs > 2e5 steps, ~1.5 days; every run of the repository uses >= 5e-5 s
+    dt: float = param(1e-4, unit="s", lo=1e-5, hi=0.01, hi_open=True,
+                      meaning="time step; keep v_max dt a small fraction of the smallest grain radius")
+    # a step costs ~sweeps^0.7 (40 -> 80: 1.6-1.7x, docs/dem2d.md): 1000 sweeps are ~6x the
+    # readings' 80, ~4 s a step at 61k disks (0.58 s at 80) and ~1e4 steps a case: ~half a day
+    iterations: int = param(10, lo=1, hi=1000, meaning="Gauss-Seidel sweeps of the contact solver per step "
+                                                       "(pymunk default 10)")
+    slop_fraction: float = param(0.02, lo=0,
+                                 meaning="overlap left uncorrected, as a fraction of the smallest grain radius "
+                                         "(sets pymunk's collision_slop)")
+    overlap_time: float = param(0.02, unit="s", lo=0, lo_open=True,
+                                meaning="time constant of the overlap correction (collision_bias = "
+                                        "exp(-1 / overlap_time))")
+    spatial_hash: bool = param(True, unit="",
+                               meaning="broad phase on pymunk's spatial hash (cell = largest diameter) instead of "
+                                       "the bounding-box tree")
+    threads: int = param(1, lo=1, hi=2,
+                         meaning="solver threads: 1 = serial and bit-for-bit repeatable, 2 = Chipmunk's threaded "
+                                 "\"hasty\" solver (not repeatable; ../shared/STACK.md 1.8)")
 
     def __post_init__(self):
-        require_number("dt", self.dt, 0.0, 0.01, unit="s")
-        if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 1000):
-            raise InvalidParameter("iterations", self.iterations, "an integer in [1, 1000]")
-        require_number("slop_fraction", self.slop_fraction, 0.0, None, lo_open=False)
-        require_number("overlap_time", self.overlap_time, 0.0, None, unit="s")
-        if self.threads not in (1, 2):
-            raise InvalidParameter("threads", self.threads, "1 or 2")
+        check_fields(self)
 
     @property
     def collision_bias(self) -> float:

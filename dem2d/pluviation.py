@@ -23,7 +23,7 @@ from typing import Iterator, NamedTuple
 import numpy as np
 
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.schema import check_fields, param
 
 from .build import add_disks
 from .grading import Grading
@@ -34,80 +34,68 @@ from .sim import Sim
 
 @dataclass(frozen=True)
 class Pluviation:
-    """Layered pluviation settings.
+    """Layered pluviation settings (module docstring)."""
 
-    layer_thickness:  deposit per layer [m]
-    drop_height:      gap between the surface and the bottom of the falling cloud [m]
-    cloud_fraction:   areal solid fraction of the released cloud [-] (at most ~0.5)
-    target_fraction:  expected solid fraction of the deposit, sizes each layer [-]
-    damping:          pymunk ``space.damping`` while filling: fraction of velocity left
-                      after 1 s (1 = none). Viscous, so it also caps the fall speed at
-                      g tau, tau = -1 / ln(damping). Reset to 1 when the filling ends.
-    settle_ratio:     a layer is settled when the weight-normalised unbalance of its grains
-                      is below this [-] ...
-    settle_ke:        ... and their kinetic energy per grain is below this times m g d50
-    final_ratio:      the same criterion for the whole deposit after the last layer [-]
-    min_layer_time:   never release the next layer earlier than this [s]
-    max_layer_time:   release the next layer after this even if not settled [s]
-    final_settle_time: at most this long for the last layer [s]
-    check_every:      steps between settling checks
-    hold_depth:       when > 0, grains whose centre lies deeper than this below the
-                      surface are held static while the next layers fall (``Sim.hold``;
-                      grains within ``hold_margin`` of a wall or the floor are never
-                      held, so the pressure cells keep their contacts) and all are
-                      released, with their contact impulses, before the last layer
-                      settles [m]. 0 = the whole deposit moves throughout
-    hold_margin:      the strip along the walls and floor that is never held, in
-                      largest grain diameters [-]
-    layer_dt:         time step while the layers fall and settle [s] (None = the
-                      solver's); the last layer always settles at the solver's dt
-    final_balance:    when set, the whole deposit is settled when the vertical
-                      reactions of the walls and floor, averaged over a check window,
-                      equal its weight within this fraction (and the kinetic energy is
-                      below settle_ke), instead of the one-step ratio below
-                      final_ratio, which the impulse solver's step-to-step jitter
-                      keeps at 0.02-0.04 on a deposit that no longer moves [-];
-                      ``final_windows`` consecutive windows must agree (a released
-                      deposit rocks for a while, and one window can catch it level)
-    """
-
-    layer_thickness: float = 0.02
-    drop_height: float = 0.005
-    cloud_fraction: float = 0.5
-    target_fraction: float = 0.82
-    damping: float = 1.0
-    settle_ratio: float = 0.05
-    settle_ke: float = 1e-3
-    final_ratio: float = 0.01
-    min_layer_time: float = 0.03
-    max_layer_time: float = 0.4
-    final_settle_time: float = 1.0
-    check_every: int = 50
-    hold_depth: float = 0.0
-    hold_margin: float = 2.0
-    layer_dt: float | None = None
-    final_balance: float | None = None
-    final_windows: int = 3
+    # layers = H / layer_thickness, each settling >= min_layer_time and <= max_layer_time: at 0.5 mm
+    # (about the finest grain) a 0.3 m fill is 600 layers, up to 6e5 steps at 0.4 s a layer and
+    # layer_dt 4e-4 s, ~2 days at the paper's grain size; thinner layers only add layers
+    layer_thickness: float = param(0.02, unit="m", lo=5e-4, meaning="deposit per layer (the last is cut to reach H)")
+    drop_height: float = param(0.005, unit="m", lo=0,
+                               meaning="gap between the surface and the bottom of the falling cloud")
+    cloud_fraction: float = param(0.5, lo=0, hi=0.5, lo_open=True,
+                                  meaning="areal solid fraction of the released cloud (at most ~0.5)")
+    target_fraction: float = param(0.82, lo=0, hi=0.907, lo_open=True, hi_open=True,
+                                   meaning="expected solid fraction of the deposit, sizes each layer")
+    # viscous, so it also caps the fall speed at g tau, tau = -1 / ln(damping); reset to 1 when
+    # the filling ends
+    damping: float = param(1.0, lo=0, hi=1, lo_open=True,
+                           meaning="pymunk space.damping while filling: fraction of velocity left after 1 s "
+                                   "(1 = none)")
+    settle_ratio: float = param(0.05, lo=0, lo_open=True,
+                                meaning="a layer is settled when the weight-normalised unbalance of its grains "
+                                        "is below this (and settle_ke holds)")
+    settle_ke: float = param(1e-3, lo=0, lo_open=True,
+                             meaning="a layer is settled only when its kinetic energy per grain is also below this "
+                                     "times m g d50")
+    final_ratio: float = param(0.01, lo=0, lo_open=True,
+                               meaning="the settle_ratio criterion for the whole deposit after the last layer")
+    # each layer is stepped for at least min_layer_time and at most max_layer_time; the last
+    # layer for at most final_settle_time: 10 s is 2.5e4 steps at layer_dt 4e-4 s, and ~15
+    # layers of the paper's fill at that cap ~4e5 steps, ~1 day at the paper's grain size
+    min_layer_time: float = param(0.03, unit="s", lo=0, hi=10,
+                                  meaning="never release the next layer earlier than this")
+    max_layer_time: float = param(0.4, unit="s", lo=0, hi=10,
+                                  meaning="release the next layer after this even if not settled")
+    # 10 s is 5e4 steps at 2e-4 s, ~8 h at 61k disks and 40 sweeps (~0.6 s a step)
+    final_settle_time: float = param(1.0, unit="s", lo=0, hi=10, meaning="at most this long for the last layer")
+    # a layer steps at least check_every steps: 10,000 are 2-4 s of fill, 1-2 h at 61k disks
+    check_every: int = param(50, lo=1, hi=10_000, meaning="steps between settling checks")
+    # grains within hold_margin of a wall or the floor are never held, so the pressure cells
+    # keep their contacts; all are released, with their contact impulses, before the last
+    # layer settles
+    hold_depth: float = param(0.0, unit="m", lo=0,
+                              meaning="grains deeper than this below the surface are held static while the next "
+                                      "layers fall (0 = the whole deposit moves throughout)")
+    hold_margin: float = param(2.0, lo=0,
+                               meaning="the strip along the walls and floor that is never held, in largest grain "
+                                       "diameters")
+    # below 1e-5 s a fill needs > 40x the steps of the case's 4e-4 s (as Solver.dt)
+    layer_dt: float | None = param(None, unit="s", lo=1e-5, hi=0.01, hi_open=True,
+                                   meaning="time step while the layers fall and settle (none = the solver's); the "
+                                           "last layer always settles at the solver's dt")
+    # instead of the one-step ratio below final_ratio, which the impulse solver's
+    # step-to-step jitter keeps at 0.02-0.04 on a deposit that no longer moves; a released
+    # deposit rocks for a while, and one window can catch it level
+    final_balance: float | None = param(None, lo=0, hi=1, lo_open=True, hi_open=True,
+                                        meaning="when set, the deposit is settled when the walls' and floor's vertical "
+                                                "reactions equal its weight within this fraction (none = final_ratio)")
+    # each window is check_every steps: 1000 windows of 50 steps at 2e-4 s are 10 s, the cap of
+    # final_settle_time
+    final_windows: int = param(3, lo=1, hi=1000,
+                               meaning="consecutive check windows that must meet final_balance")
 
     def __post_init__(self):
-        require_number("layer_thickness", self.layer_thickness, 0.0, None, unit="m")
-        require_number("drop_height", self.drop_height, 0.0, None, lo_open=False, unit="m")
-        require_number("cloud_fraction", self.cloud_fraction, 0.0, 0.5, hi_open=False, unit="-")
-        require_number("target_fraction", self.target_fraction, 0.0, 0.907, unit="-")
-        require_number("damping", self.damping, 0.0, 1.0, hi_open=False)
-        require_number("settle_ratio", self.settle_ratio, 0.0, None)
-        require_number("settle_ke", self.settle_ke, 0.0, None)
-        require_number("final_ratio", self.final_ratio, 0.0, None)
-        if not (isinstance(self.check_every, int) and self.check_every >= 1):
-            raise InvalidParameter("check_every", self.check_every, "an integer >= 1")
-        require_number("hold_depth", self.hold_depth, 0.0, None, lo_open=False, unit="m")
-        require_number("hold_margin", self.hold_margin, 0.0, None, lo_open=False)
-        if self.layer_dt is not None:
-            require_number("layer_dt", self.layer_dt, 0.0, 0.01, unit="s")
-        if self.final_balance is not None:
-            require_number("final_balance", self.final_balance, 0.0, 1.0)
-        if not (isinstance(self.final_windows, int) and self.final_windows >= 1):
-            raise InvalidParameter("final_windows", self.final_windows, "an integer >= 1")
+        check_fields(self)
 
 
 class LayerStatus(NamedTuple):

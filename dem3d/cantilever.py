@@ -114,14 +114,16 @@ class CantileverResult(NamedTuple):
 def cantilever_check(youngs: float = 40e9, thickness: float = 5e-3, length: float = 0.135, *,
                      density: float = 4000.0, layers: int = 2, radius_multiplier: float = 1.0,
                      shear_ratio: float = 1.0, tip_deflection_ratio: float = 1e-3,
-                     dt_fraction: float = 0.2, tolerance: float = 1e-4) -> CantileverResult:
+                     dt_fraction: float = 0.2, tolerance: float = 1e-4, progress=None) -> CantileverResult:
     """Build the bonded strip calibrated by ``calibrate_strip``, clamp row 0, load the
     tip row across the strip with F giving a beam deflection ``tip_deflection_ratio`` L
     (small: linear theory), relax with local damping 0.7 until the tip moves less than
     ``tolerance`` of its deflection per period, and measure the deflection; then remove
     the load, switch damping off and time the free vibration over 3 periods (zero
     crossings about the unloaded position, linearly interpolated).
-    ``dt_fraction`` x the bonds' critical step is the time step."""
+    ``dt_fraction`` x the bonds' critical step is the time step; ``progress(stage, done,
+    total)`` is called after every chunk of steps ("relax" counts chunks of at most 400,
+    "vibrate" samples)."""
     prm = calibrate_strip(youngs, thickness, layers=layers, radius_multiplier=radius_multiplier,
                           shear_ratio=shear_ratio)
     spec, row = strip_specimen(length, thickness, layers=layers, density=density)
@@ -153,9 +155,11 @@ def cantilever_check(youngs: float = 40e9, thickness: float = 5e-3, length: floa
     chunk = max(1, per // 4)
     steps = 0
     last = None
-    for _ in range(400):                       # relax (at most 100 periods)
+    for k in range(400):                       # relax (at most 100 periods)
         sim.step(chunk)
         steps += chunk
+        if progress is not None:
+            progress("relax", k + 1, 400)
         tip_x = _tip(sim, tip) - x0
         if last is not None and abs(tip_x - last) < tolerance * 0.25 * abs(tip_x):
             break
@@ -165,9 +169,12 @@ def cantilever_check(youngs: float = 40e9, thickness: float = 5e-3, length: floa
     sim.set_params(law._replace(local_damping=0.0), allow_unsafe_dt=True)
     times, values = [], []
     sample = max(1, per // 200)
-    for _ in range(int(3.5 * per / sample) + 1):
+    n_samples = int(3.5 * per / sample) + 1
+    for k in range(n_samples):
         sim.step(sample)
         steps += sample
+        if progress is not None and (k % 20 == 19 or k == n_samples - 1):
+            progress("vibrate", k + 1, n_samples)
         times.append(sim.time)
         values.append(_tip(sim, tip) - x0)
     frequency = _frequency(np.array(times), np.array(values))

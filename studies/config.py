@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 import tomllib
 import typing
 from pathlib import Path
 
 from analytic.errors import InvalidParameter
+from analytic.schema import Spec, check_value, item_type, spec_of, split_optional, valid_text
 
 
 #: names used before the study layer's vocabulary (docs/architecture.md, glossary): a
@@ -52,52 +52,70 @@ def _field_types(cls) -> dict[str, object]:
     return {f.name: hints[f.name] for f in dataclasses.fields(cls)}
 
 
-def _coerce(key: str, text, typ):
-    """Turn a TOML value or a ``--set`` string into the field's type."""
-    origin = typing.get_origin(typ)
-    if origin is typing.Union or str(origin) == "<class 'types.UnionType'>":
-        args = [a for a in typing.get_args(typ) if a is not type(None)]
-        if isinstance(text, str) and text.lower() in ("none", "null", ""):
-            return None
-        typ = args[0]
+def _field_specs(cls) -> dict[str, Spec | None]:
+    return {f.name: spec_of(f) for f in dataclasses.fields(cls)}
+
+
+def _coerce(key: str, raw, typ, spec: Spec | None = None):
+    """A TOML value or the text of a flag or ``--set`` as the field's type, checked
+    against its declaration (analytic/schema.py); errors name ``key`` and the value as typed."""
+    base, optional = split_optional(typ)
+    if optional and (raw is None or isinstance(raw, str) and raw.strip().lower() in ("none", "null", "")):
+        return None
+    inner = item_type(base)
+    try:
+        if inner is not None:
+            items = _list_items(key, raw, typ, spec)
+            value = tuple(_parsed(key, item, inner, typ, spec) for item in items)
+        else:
+            value = _parsed(key, raw, base, typ, spec)
+        return check_value(key, value, typ, spec)
+    except InvalidParameter as err:
+        if err.name == key and isinstance(raw, str) and err.value != raw:
+            raise InvalidParameter(key, raw, err.valid, err.why) from None    # the value as typed
+        raise
+
+
+def _list_items(key: str, raw, typ, spec) -> list:
+    """The items of a list value: 'a,b' (or '(a, b)') from text, a TOML array as it is,
+    a single TOML value as a list of one; an empty item ('36,,28') is refused."""
+    if isinstance(raw, str):
+        text = raw.strip()
+        if text[:1] in "([" and text[-1:] in ")]":
+            text = text[1:-1]
+        if spec is not None and spec.may_be_empty and text.strip().lower() in ("", "none"):
+            return []
+        items = [p.strip() for p in text.split(",")]
+        if not text.strip() or any(not p for p in items):
+            raise InvalidParameter(key, raw, valid_text(typ, spec), "an empty item")
+        return items
+    if isinstance(raw, (list, tuple)):
+        return list(raw)
+    return [raw]
+
+
+def _parsed(key: str, raw, typ, whole_typ, spec):
+    """One value from text ('3000', '1e9', 'true', 'RT'); a TOML value stays as it is
+    (``check_value`` then checks it)."""
+    if not isinstance(raw, str):
+        return raw
+    text = raw.strip()
     if typ is bool:
-        if isinstance(text, bool):
-            return text
-        low = str(text).lower()
+        low = text.lower()
         if low in ("1", "true", "yes", "on"):
             return True
         if low in ("0", "false", "no", "off"):
             return False
-        raise InvalidParameter(key, text, "true or false")
-    if typ is int:
+        raise InvalidParameter(key, raw, "true or false")
+    if typ in (int, float):
         try:
-            if isinstance(text, float) and not text.is_integer():
-                raise ValueError
-            return int(float(text)) if not isinstance(text, int) else text
-        except (TypeError, ValueError, OverflowError):        # inf, nan, 1e400
-            raise InvalidParameter(key, text, "a whole number") from None
-    if typ is float:
+            return int(text)
+        except ValueError:
+            pass
         try:
-            value = float(text)
-        except (TypeError, ValueError):
-            raise InvalidParameter(key, text, "a finite number", "not a number") from None
-        if not math.isfinite(value):
-            raise InvalidParameter(key, text, "a finite number")
-        return value
-    if typ is str:
-        return str(text)
-    if typing.get_origin(typ) is typing.Literal:
-        allowed = typing.get_args(typ)
-        if text not in allowed:
-            raise InvalidParameter(key, text, " | ".join(map(str, allowed)))
-        return text
-    if typing.get_origin(typ) in (tuple, list):
-        if isinstance(text, str):
-            parts = [p for p in text.replace("(", "").replace(")", "").split(",") if p.strip()]
-        else:
-            parts = list(text)
-        inner = typing.get_args(typ)[0] if typing.get_args(typ) else float
-        return tuple(_coerce(key, p, inner) for p in parts)
+            return float(text)
+        except ValueError:
+            raise InvalidParameter(key, raw, valid_text(whole_typ, spec), "not a number") from None
     return text
 
 
@@ -139,12 +157,13 @@ def set_value(case, key: str, raw):
 
 
 def apply_overrides(case, items) -> object:
-    """``case`` with every (key, raw value) of ``items`` applied at once, later items
+    """``case`` with every (key, raw value[, name shown in errors]) of ``items`` applied
+    at once, later items
     winning: each record is rebuilt once with all its changes, so a check that spans
     fields (d_min <= d_max, H <= box height, enough particles for the grains) sees the
     final values whatever the order of the keys in a file or on the command line."""
     changes: dict[tuple, dict] = {}
-    for key, raw in items:
+    for key, raw, *shown in items:
         key = current_name(key)
         hit = _resolve(case, key, raw)
         if hit is None:
@@ -153,7 +172,9 @@ def apply_overrides(case, items) -> object:
         node = case
         for part in path:
             node = getattr(node, part)
-        changes.setdefault(tuple(path), {})[name] = (key, _coerce(key, raw, _field_types(type(node))[name]))
+        label = shown[0] if shown else key          # a flag's error names the flag
+        value = _coerce(label, raw, _field_types(type(node))[name], _field_specs(type(node))[name])
+        changes.setdefault(tuple(path), {})[name] = (label, value)
     return _rebuilt(case, (), changes)
 
 
@@ -241,38 +262,43 @@ def revalidated(case):
 
 
 def resolve_case(case, *, config: str | Path | None = None, flags: dict | None = None,
-                 sets: list[str] | None = None):
+                 sets: list[str] | None = None, flag_names: dict | None = None):
     """The case a command runs, one precedence for every study (lowest first): the
     defaults in ``case`` < the ``config`` TOML file < ``flags`` (dotted key -> value, only
-    the flags the user typed) < ``sets`` (``--set key=value``)."""
+    the flags the user typed; ``flag_names``: key -> the flag an error names) < ``sets``
+    (``--set key=value``)."""
     items = toml_items(read_toml(config)) if config else []
-    items += list((flags or {}).items()) + _set_items(sets)
+    names = flag_names or {}
+    items += [(k, v, names[k]) if k in names else (k, v) for k, v in (flags or {}).items()]
+    items += _set_items(sets)
     return revalidated(apply_overrides(case, items))
 
 
-def _field_notes(cls) -> dict[str, str]:
-    """First line of each field's description in a record's docstring, where the
-    docstring lists fields as ``name: text`` or ``name, other: text``."""
-    notes = {}
-    for line in (cls.__doc__ or "").splitlines():
-        m = re.match(r"^\s{0,8}([A-Za-z_][\w]*(?:\s*,\s*[A-Za-z_][\w]*)*)\s*:\s+(\S.*)$", line)
-        if m:
-            for name in m.group(1).split(","):
-                notes.setdefault(name.strip(), m.group(2).strip())
-    return notes
+@dataclasses.dataclass(frozen=True)
+class KeyInfo:
+    """One settable key as ``wallsim keys`` prints it (from the field's declaration)."""
+
+    key: str
+    default: object
+    unit: str
+    valid: str
+    meaning: str
 
 
-def describe_keys(case, prefix: str = "") -> list[tuple[str, object, str]]:
-    """(key, default value, what it is) for every settable key of a case, dotted for
-    nested records, the description taken from the record's docstring."""
+def describe_keys(case, prefix: str = "") -> list[KeyInfo]:
+    """Every settable key of a case, dotted for nested records, with its default, unit,
+    what it accepts and its meaning (``analytic.schema.param``)."""
     rows = []
-    notes = _field_notes(type(case))
+    cls = type(case)
     for f in dataclasses.fields(case):
         value = getattr(case, f.name)
         if dataclasses.is_dataclass(value):
             rows += describe_keys(value, prefix + f.name + ".")
-        else:
-            rows.append((prefix + f.name, value, notes.get(f.name, "")))
+            continue
+        spec = spec_of(f)
+        typ = _field_types(cls)[f.name]
+        rows.append(KeyInfo(prefix + f.name, value, spec.unit if spec else "?", valid_text(typ, spec),
+                            spec.meaning if spec else ""))
     return rows
 
 
@@ -288,11 +314,9 @@ def setting_sources(config: str | Path | None, flags: dict | None, sets: list[st
     return out
 
 
-def sources_comment(sources: dict[str, str], used: list[str]) -> str:
-    """TOML comment lines for config.toml: where the settings came from and what the run
-    actually used where it differs from the request (comments: --config ignores them)."""
+def sources_comment(sources: dict[str, str]) -> str:
+    """TOML comment lines for config.toml: where the settings came from (comments:
+    --config ignores them)."""
     lines = ["", "# where the settings came from (the others are the case's defaults):"]
     lines += [f"#   {k}: {v}" for k, v in sorted(sources.items())] or ["#   all defaults"]
-    if used:
-        lines += ["# what the run used:"] + [f"#   {u}" for u in used]
     return "\n".join(lines) + "\n"

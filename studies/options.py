@@ -37,13 +37,21 @@ def count(name: str):
 
 def number_list(name: str, scale: float = 1.0, *, lo=None, hi=None, unit=""):
     """'0.3,0.5,0.7' -> (0.3, 0.5, 0.7) (times ``scale``); numbers >= 0, or (``lo``, ``hi``
-    given) each in that open range, the range the case record itself checks."""
-    valid = "comma-separated numbers >= 0" if lo is None and hi is None else \
-        "comma-separated numbers in " + _range_text(lo, hi, True, True, unit)
+    given) each in that open range, the range the case record itself checks; an empty
+    item ('2,,5') is refused, not dropped."""
+    if lo is None and hi is None:
+        valid = "a comma-separated list of numbers >= 0"
+    elif hi is None:
+        valid = f"a comma-separated list of numbers > {lo:g}" + (f" {unit}" if unit else "")
+    else:
+        valid = "a comma-separated list of numbers in " + _range_text(lo, hi, True, True, unit)
 
     def parse(text: str) -> tuple[float, ...]:
+        items = [x.strip() for x in text.split(",")]
+        if any(not x for x in items):
+            raise InvalidParameter(name, text, valid, "an empty item")
         try:
-            vals = tuple(float(x) * scale for x in text.split(",") if x.strip())
+            vals = tuple(float(x) * scale for x in items)
         except ValueError:
             raise InvalidParameter(name, text, valid) from None
         bad = (lambda v: v < 0) if lo is None and hi is None else \
@@ -59,9 +67,22 @@ def kpa_to_pa(value: float) -> float:
     return value * 1e3
 
 
+def _probe(folder: Path) -> str | None:
+    """Why a file cannot be created in the existing folder ``folder`` (None: it can). A
+    file is made and removed: permission bits alone pass /proc or a read-only mount."""
+    import tempfile
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".wallsim-probe-")
+        os.close(fd)
+        os.unlink(tmp)
+    except OSError as err:
+        return err.strerror or type(err).__name__
+    return None
+
+
 def output_file(name: str, suffixes: tuple[str, ...]):
-    """A path to write: a known suffix and an existing, writable folder (checked before
-    the run, so a long run never ends on a file it cannot write)."""
+    """A path to write: a known suffix and an existing folder a file can be created in
+    (checked before the run, so a long run never ends on a file it cannot write)."""
     def parse(text: str) -> str:
         path = Path(text)
         if path.suffix.lower() not in suffixes:
@@ -69,25 +90,44 @@ def output_file(name: str, suffixes: tuple[str, ...]):
         folder = path.parent if str(path.parent) else Path(".")
         if not folder.is_dir():
             raise InvalidParameter(name, text, "a path in an existing folder", f"no folder {folder}")
-        if not os.access(folder, os.W_OK) or path.is_dir():
-            raise InvalidParameter(name, text, "a writable file path", f"{folder} is not writable")
+        why = "it is a folder" if path.is_dir() else _probe(folder)
+        if why or (path.exists() and not os.access(path, os.W_OK)):
+            raise InvalidParameter(name, text, "a writable file path", why or f"{path} is read-only")
         return text
     parse.__name__ = name
     return parse
+
+
+def _existing_ancestor(path: Path) -> Path:
+    probe = path
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    return probe
 
 
 def output_folder(name: str):
-    """A folder to write into: it exists and is writable, or it can be made."""
+    """A folder to write into: it exists and files can be made in it, or its nearest
+    existing parent can hold it (nothing is created until the run starts)."""
     def parse(text: str) -> str:
-        path = Path(text)
-        probe = path
-        while not probe.exists() and probe != probe.parent:
-            probe = probe.parent
-        if not text or not probe.is_dir() or not os.access(probe, os.W_OK):
-            raise InvalidParameter(name, text, "a writable folder")
+        writable_root(name, text)
         return text
     parse.__name__ = name
     return parse
+
+
+def writable_root(name: str, text: str) -> Path:
+    """``text`` as a folder the run can create and write, checked without creating it
+    (no folder is left behind by a command refused later); InvalidParameter if not."""
+    path = Path(text)
+    if not text:
+        raise InvalidParameter(name, text, "a writable folder")
+    base = _existing_ancestor(path)
+    if not base.is_dir():
+        raise InvalidParameter(name, text, "a writable folder", f"{base} is a file")
+    why = _probe(base)
+    if why:
+        raise InvalidParameter(name, text, "a writable folder", f"{base}: {why}")
+    return path
 
 
 def scheduler_address(name: str):
@@ -118,6 +158,11 @@ def writable_folder(name: str, text: str) -> Path:
                                err.strerror or type(err).__name__) from None
     return path
 
+
+#: the flag of every command that resumes an interrupted run (the envelope reads the
+#: folder's config.toml; the study continues from its checkpoint)
+RESUME = Option("--resume", "continue an interrupted run from its folder (its config.toml and run options)",
+                metavar="RUN_DIR")
 
 #: the recording flags of the 3D runs
 RECORDING = (

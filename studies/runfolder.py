@@ -130,6 +130,25 @@ def _new_folder(parent: Path, stem: str) -> Path:
     raise FileExistsError(f"no free run folder name for {parent / stem}")
 
 
+#: the start of config.toml's note on what the run used
+_USED_HEADER = "# what the run used:"
+
+
+def _earlier_sessions(path: Path) -> list[dict]:
+    """The sessions of an interrupted run's manifest (a manifest written at a checkpoint,
+    or one from before sessions were kept: its command and times as one session)."""
+    if not path.is_file():
+        return []
+    try:
+        old = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return []
+    if "sessions" in old:
+        return list(old["sessions"])
+    return [{"command": old.get("command", "?"), "started": old.get("created", "?"), "git": old.get("git", "?"),
+             "wall_time_s": old.get("wall_time_s", 0.0), "cpu_time_s": old.get("cpu_time_s", 0.0)}]
+
+
 class RunFolder:
     """A run's output folder. Created on construction; every writer returns the path."""
 
@@ -142,9 +161,7 @@ class RunFolder:
             self.path = _new_folder(Path(root) / case, stem)
         self.case = case
         self.seed = seed
-        self._t0 = time.perf_counter()
-        self.git = git_revision()       # the code this process runs, even if HEAD moves on
-        self.load_at_start = _load_average()
+        self._start_clocks()
 
     @classmethod
     def existing(cls, path: str | Path, seed: int | None = None) -> "RunFolder":
@@ -158,21 +175,57 @@ class RunFolder:
         self.path = path
         self.case = path.parent.name
         self.seed = seed
-        self._t0 = time.perf_counter()
-        self.git = git_revision()
-        self.load_at_start = _load_average()
+        self._start_clocks()
         return self
+
+    def start_clocks(self, wall: float, cpu: float) -> None:
+        """Count the run's wall and CPU time from ``wall`` (perf_counter) and ``cpu``
+        (process_time): the command's start, before the folder was opened."""
+        self._t0, self._cpu0 = wall, cpu
+
+    def _start_clocks(self) -> None:
+        self._t0 = time.perf_counter()
+        self._cpu0 = time.process_time()
+        self.started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
+        self.git = git_revision()       # the code this process runs, even if HEAD moves on
+        self.load_at_start = _load_average()
+
+    def resources(self) -> dict:
+        """Wall and CPU time of this run (this session of it, when resumed) [s] and the
+        process's peak resident memory [MB] (Linux reports ru_maxrss in kB)."""
+        import resource
+        return {"wall_time_s": round(self.wall_time, 3), "cpu_time_s": round(time.process_time() - self._cpu0, 3),
+                "peak_memory_MB": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
 
     def file(self, name: str) -> Path:
         p = self.path / name
         p.parent.mkdir(parents=True, exist_ok=True)
         return p
 
-    def write_config(self, config) -> Path:
-        return atomic_write(self.file("config.toml"), config_toml(config).encode())
+    def write_config(self, config, sources: dict[str, str] | None = None) -> Path:
+        """config.toml: the resolved case, then (as comments, which --config ignores)
+        where each setting came from."""
+        from .config import sources_comment
+        return atomic_write(self.file("config.toml"), (config_toml(config) + sources_comment(sources or {})).encode())
+
+    def note_used(self, used: list[str]) -> None:
+        """Add to config.toml's notes what the run used that its settings do not say
+        (the particle count reached, the grains it scaled to); the notes already there,
+        from the start of the run and of any earlier session, stay."""
+        path = self.path / "config.toml"
+        if not used or not path.is_file():
+            return
+        text = path.read_text().split(_USED_HEADER)[0].rstrip("\n") + "\n"
+        atomic_write(path, (text + _USED_HEADER + "\n" + "".join(f"#   {u}\n" for u in used)).encode())
 
     def write_manifest(self, **extra) -> Path:
-        """Provenance: package versions, git revision, host, seed, wall time so far."""
+        """Provenance: package versions, git revision, host, seed, wall time. A resumed
+        run keeps every session: ``sessions`` lists each one's command, start, git
+        revision and times, and the totals add them up."""
+        session = {"command": " ".join(sys.argv), "started": self.started, "git": self.git,
+                   **self.resources()}
+        earlier = _earlier_sessions(self.path / "manifest.json")
+        sessions = earlier + [session]
         man = {
             "case": self.case,
             "seed": self.seed,
@@ -185,10 +238,13 @@ class RunFolder:
             "numba_threads": _numba_threads(),
             # wall times mean little without it: other jobs on the cores slow a run 2-3x
             "load_average_1min": {"start": self.load_at_start, "end": _load_average()},
-            "command": " ".join(sys.argv),
-            "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-            "wall_time_s": time.perf_counter() - self._t0,
+            "command": sessions[0]["command"],
+            "created": sessions[0]["started"],
+            "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
             **to_plain(extra),
+            "wall_time_s": math.fsum(s["wall_time_s"] for s in sessions),
+            "cpu_time_s": math.fsum(s["cpu_time_s"] for s in sessions),
+            "sessions": sessions,
         }
         return self.write_json("manifest.json", man)
 

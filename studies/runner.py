@@ -1,22 +1,92 @@
-"""What every study's run does around its own stages: open the run folder (or reopen
-one to resume), record the resolved case, open the Rerun recording, and at the end
-write ``result.json`` and the manifest. A study module supplies only its stages."""
+"""The run envelope: what every command does around a study's own stages.
+
+``command_envelope`` wraps one command (CLI or Python API): it knows the run folders
+the command opens, where each setting came from, and the reduced-size note; an
+interrupt or an error inside it names only folders that exist, and a bad input leaves
+no folder behind. Inside it a study opens its run folder (``open_run_folder``: a new
+one with the resolved case in config.toml, or the interrupted run's own to resume),
+its Rerun recording, and ends with ``finish``: the one writer of result.json, written
+once and last, with the wall time, CPU time and peak memory of the run."""
 
 from __future__ import annotations
 
 import json
+import shutil
 import time
 from contextlib import contextmanager
 from contextvars import ContextVar
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import reproducibility
 
 from .runfolder import RunFolder
 
-#: the run folder of the command in progress in this process (what an interrupt and the
-#: config notes refer to); the CLI clears it before each command
-current_folder: Path | None = None
+
+@dataclass
+class Envelope:
+    """One command's run state.
+
+    sources:  where each non-default setting came from (config.toml's notes)
+    note:     result -> the reduced-size line of the command's main run, or None
+    opened:   (folder, created by this command) of every run folder opened, in order
+    """
+
+    sources: dict[str, str] = field(default_factory=dict)
+    note: Callable[[dict], str | None] | None = None
+    opened: list[tuple[Path, bool]] = field(default_factory=list)
+    clocks: tuple[float, float] = field(default_factory=lambda: (time.perf_counter(), time.process_time()))
+
+    @property
+    def last_folder(self) -> Path | None:
+        """The folder the command opened last, if it still exists."""
+        for path, _ in reversed(self.opened):
+            if path.is_dir():
+                return path
+        return None
+
+    def discard_empty(self) -> None:
+        """Remove the folders this command created that hold no run (only its config):
+        after an error the user is told about, nothing half-made stays behind."""
+        for path, created in self.opened:
+            if created and path.is_dir() and {p.name for p in path.iterdir()} <= _SETUP_FILES:
+                shutil.rmtree(path, ignore_errors=True)
+
+
+#: what a run folder holds before its first stage has done anything
+_SETUP_FILES = {"config.toml", "run_options.json"}
+
+_envelope: ContextVar[Envelope | None] = ContextVar("wallsim_envelope", default=None)
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """Ctrl-C inside a command, carrying the folder its finished files are in (or None)."""
+
+    def __init__(self, folder: Path | None):
+        super().__init__()
+        self.folder = folder
+
+
+@contextmanager
+def command_envelope(sources: dict[str, str] | None = None, note: Callable[[dict], str | None] | None = None):
+    """Run one command inside: a bad input or an error removes the folders it created
+    that hold nothing yet; Ctrl-C becomes ``RunInterrupted`` naming the folder that
+    holds what finished (None when nothing was written)."""
+    from analytic.errors import InvalidParameter
+
+    env = Envelope(sources or {}, note)
+    token = _envelope.set(env)
+    try:
+        yield env
+    except KeyboardInterrupt:
+        env.discard_empty()
+        raise RunInterrupted(env.last_folder) from None
+    except (InvalidParameter, OSError, MemoryError):
+        env.discard_empty()
+        raise
+    finally:
+        _envelope.reset(token)
 
 #: the folder name a sweep gives the run in this thread (``named_run``); None: date, time, seed
 _run_name: ContextVar[str | None] = ContextVar("run_name", default=None)
@@ -59,17 +129,21 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
     """A new run folder with the resolved case in config.toml, or, with ``resume``, the
     interrupted run's own folder (its config.toml is the case, kept as it was).
     ``seed``: the case's seed when it is not ``case.seed``."""
-    global current_folder
     name = name if name is not None else _run_name.get()
     seed = seed if seed is not None else getattr(case, "seed", None)
+    env = _envelope.get()
     if resume is not None:
         folder = RunFolder.existing(resume, seed=seed)
     else:
+        created = name is None or not (Path(root) / study / name).is_dir()
         folder = RunFolder(study, seed, root=root, name=name)
-        folder.write_config(case)
+        folder.write_config(case, sources=env.sources if env else None)
         if _options.get() is not None:
             folder.write_json("run_options.json", _options.get())
-    current_folder = folder.path
+    if env is not None:
+        if not env.opened:          # the command's first run: its time counts from the command's start
+            folder.start_clocks(*env.clocks)
+        env.opened.append((folder.path, resume is None and created))
     return folder
 
 
@@ -81,13 +155,22 @@ def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int
                     spawn=spawn, enabled=path is not None or spawn, blueprint=blueprint)
 
 
-def finish(folder: RunFolder, result: dict, **manifest) -> None:
-    """result.json (what ``--json`` prints) and the manifest (provenance), written last
-    so a folder with a result.json holds a finished run. The result records the
-    reproducibility mode that made it (``reproducibility.describe``)."""
+def finish(folder: RunFolder, result: dict, *, main: bool = True, **manifest) -> None:
+    """The end of a run: the reduced-size note (``main``: the command's own run, not a
+    specimen it prepared), what the run used beyond its config (config.toml's notes),
+    the manifest (provenance), and last result.json (what ``--json`` prints), written
+    here only, once, so a folder with a result.json holds a finished run. The result
+    records the reproducibility mode and the resources of the run."""
+    env = _envelope.get()
+    if main and env is not None and env.note is not None:
+        note = env.note(result)
+        if note:
+            result["scale_note"] = note
+    result["resources"] = folder.resources()
     result["reproducibility"] = reproducibility.describe()
-    folder.write_json("result.json", result)
+    folder.note_used(used_settings(result))
     folder.write_manifest(**manifest)
+    folder.write_json("result.json", result)
 
 
 class Stopwatch:
@@ -118,20 +201,19 @@ class _Lap:
 
 def finished_result(run_dir: str | Path) -> dict | None:
     """The result of a run folder that holds a finished run (result.json), else None."""
-    import json
     p = Path(run_dir) / "result.json"
     return json.loads(p.read_text()) if p.is_file() else None
 
 
-def interrupted_line(resume_command: str | None) -> str:
-    """One line for an interrupted run: where its finished files are and, when the
-    command can resume, how."""
+def interrupted_line(resume_command: str | None, folder: Path | None) -> str:
+    """One line for an interrupted run: where its finished files are (only a folder
+    that exists) and, when the command can resume, how."""
     stamp = time.strftime("%H:%M:%S")
-    if current_folder is None:
+    if folder is None or not folder.is_dir():
         return f"interrupted at {stamp}; nothing was written"
     if resume_command:
-        return f"interrupted at {stamp}; resume with: {resume_command} --resume {current_folder}"
-    return f"interrupted at {stamp}; what finished is in {current_folder} (this command does not resume)"
+        return f"interrupted at {stamp}; resume with: {resume_command} --resume {folder}"
+    return f"interrupted at {stamp}; what finished is in {folder} (this command does not resume)"
 
 
 def used_settings(result: dict) -> list[str]:
@@ -152,32 +234,8 @@ def used_settings(result: dict) -> list[str]:
     return used
 
 
-def annotate_config(sources: dict[str, str], result: dict) -> None:
-    """Append to the run's config.toml where each setting came from and what was used."""
-    from .config import sources_comment
-    if current_folder is None or not (current_folder / "config.toml").is_file():
-        return
-    path = current_folder / "config.toml"
-    text = path.read_text().split("\n# where the settings came from")[0].rstrip("\n") + "\n"
-    from .store import atomic_write
-    atomic_write(path, (text + sources_comment(sources, used_settings(result))).encode())
-
-
-def add_to_result(result: dict) -> None:
-    """Rewrite the run folder's result.json with what the study added after the run
-    (so result.json stays what ``--json`` prints)."""
-    from .runfolder import to_plain
-    from .store import atomic_write
-    folder = result.get("run_folder")
-    if folder and (Path(folder) / "result.json").is_file():
-        atomic_write(Path(folder) / "result.json", (json.dumps(to_plain(result), indent=2) + "\n").encode())
-
-
-def closing_line(result: dict, note: str | None, folder) -> str:
-    """The line(s) a study command prints last: a reduced-size note (kept in result.json
-    too) and the run folder."""
-    if not note:
-        return f"run folder: {folder}"
-    result["scale_note"] = note
-    add_to_result(result)
-    return f"{note}\nrun folder: {folder}"
+def closing_line(result: dict, folder) -> str:
+    """The line(s) a study command prints last: its reduced-size note, if any (in
+    result.json too, written by ``finish``), and the run folder."""
+    note = result.get("scale_note")
+    return f"{note}\nrun folder: {folder}" if note else f"run folder: {folder}"

@@ -70,6 +70,8 @@ class Command:
                   ``studies.seeds.figure`` record (name, value, reference, window); a
                   command with figures and a seed takes ``--seeds`` (mean +- sd over
                   seeds, ``studies/seeds.py``)
+    scale_note:   (case, result) -> one line for a run coarser than the paper's (what
+                  it gave against the paper-scale validation), or None
     """
 
     verb: str
@@ -83,9 +85,11 @@ class Command:
     seed_default: int = 1
     busy_note: bool = False
     figures: Callable[[dict], list[dict]] | None = None
+    scale_note: Callable[[Any, dict], str | None] | None = None
 
     def resolve(self, *, config: str | None = None, flags: dict[str, Any] | None = None,
-                sets: list[str] | None = None, resume: str | None = None, study: str | None = None):
+                sets: list[str] | None = None, resume: str | None = None, study: str | None = None,
+                flag_names: dict[str, str] | None = None):
         """The case to run: defaults < config file < flags (key -> value) < ``--set``;
         or, with ``resume`` (a run folder of ``study``), exactly the case that run
         started with."""
@@ -94,7 +98,14 @@ class Command:
                 raise InvalidParameter("--resume", resume, "a run folder alone (no --config, --set or case flags)",
                                        "a resumed run keeps the settings it started with")
             config = _resume_config(resume, study)
-        return resolve_case(self.default_case(), config=config, flags=flags or {}, sets=sets or [])
+        return resolve_case(self.default_case(), config=config, flags=flags or {}, sets=sets or [],
+                            flag_names=flag_names)
+
+    def envelope(self, case, sources: dict[str, str] | None = None):
+        """The run envelope of this command on ``case`` (studies/runner.py)."""
+        from .runner import command_envelope
+        note = (lambda result: self.scale_note(case, result)) if self.scale_note else None
+        return command_envelope(sources, note)
 
     def run_options(self, **given) -> SimpleNamespace:
         """Every run option at its default, with ``given`` on top (unknown names refused)."""
@@ -171,7 +182,9 @@ class Study:
                 raise InvalidParameter("resume", str(options["resume"]), "the case that run started with",
                                        "a resumed run keeps its settings; pass case=None")
             case = started
-        result, _ = cmd.run(case if case is not None else cmd.default_case(), cmd.run_options(**options))
+        case = case if case is not None else cmd.default_case()
+        with cmd.envelope(case):
+            result, _ = cmd.run(case, cmd.run_options(**options))
         return result
 
     def reference(self) -> dict:

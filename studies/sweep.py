@@ -56,6 +56,11 @@ class Point:
         return " ".join(self.sets)
 
 
+#: the most points a sweep runs: each point is a run and a run folder, and 10,000 of the
+#: shortest (a tilt test, ~1 s) already take hours on two cores
+MAX_SWEEP_POINTS = 10_000
+
+
 def parse_vary(items: list[str]) -> list[tuple[str, list[str]]]:
     """``["seed=1..3", "mode=T,RB"]`` -> ``[("seed", ["1", "2", "3"]), ("mode", ["T", "RB"])]``;
     ``InvalidParameter`` for text that is not ``KEY=V1,V2,...`` / ``KEY=A..B``, a key given
@@ -72,6 +77,9 @@ def parse_vary(items: list[str]) -> list[tuple[str, list[str]]]:
                 raise InvalidParameter("--vary", item, _VARY_FORM, f"{part} is an empty range")
             if not part or (".." in part and not m):
                 raise InvalidParameter("--vary", item, _VARY_FORM)
+            if m and int(m[2]) - int(m[1]) + 1 > MAX_SWEEP_POINTS:
+                raise InvalidParameter("--vary", item, f"at most {MAX_SWEEP_POINTS:,} points",
+                                       f"{part} alone is {int(m[2]) - int(m[1]) + 1:,}")
             values += [str(v) for v in range(int(m[1]), int(m[2]) + 1)] if m else [part]
         if key in seen:
             raise InvalidParameter("--vary", item, "each key once", f"{key} is varied twice")
@@ -81,6 +89,10 @@ def parse_vary(items: list[str]) -> list[tuple[str, list[str]]]:
         varied.append((key, values))
     if not varied:
         raise InvalidParameter("--vary", None, _VARY_FORM, "nothing to vary")
+    total = math.prod(len(values) for _, values in varied)
+    if total > MAX_SWEEP_POINTS:
+        raise InvalidParameter("--vary", " ".join(items), f"at most {MAX_SWEEP_POINTS:,} points",
+                               f"the product of the values is {total:,}")
     return varied
 
 

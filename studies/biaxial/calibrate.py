@@ -19,6 +19,8 @@ from typing import Sequence
 
 import numpy as np
 
+from analytic.errors import InvalidParameter
+from analytic.schema import check_fields, param
 from dem2d.biaxial import BiaxialCase, BiaxialTest
 from dem2d.params import Solver
 from studies.progress import progress
@@ -37,18 +39,26 @@ DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"),
 
 @dataclass(frozen=True)
 class CalibrationPlan:
-    """What ``calibrate biaxial`` runs.
+    """What ``calibrate biaxial`` runs: a friction series, then a pressure series."""
 
-    frictions:   particle friction coefficients to test at ``confining`` [-]
-    pressures:   extra confining stresses [Pa] tested at the calibrated friction
-    target_phi:  phi [deg] the calibration aims at (Khosravi Table 1: 20.7)
-    case:        the biaxial test (its friction/confining are overridden per test)
-    """
-
-    frictions: tuple[float, ...] = (0.3, 0.5, 0.7)
-    pressures: tuple[float, ...] = ()
-    target_phi: float = 20.7
+    frictions: tuple[float, ...] = param((0.3, 0.5, 0.7), lo=0,
+                                         meaning="particle friction coefficients to test at case.confining, one "
+                                                 "biaxial test each")
+    pressures: tuple[float, ...] = param((), unit="Pa", lo=0, lo_open=True, may_be_empty=True,
+                                         meaning="extra confining stresses tested at the calibrated friction "
+                                                 "(none by default)")
+    target_phi: float = param(20.7, unit="deg", lo=0, hi=90, lo_open=True, hi_open=True,
+                              meaning="friction angle the calibration aims at (Khosravi Table 1: 20.7)")
+    # the biaxial test (its friction/confining are overridden per test)
     case: BiaxialCase = field(default_factory=BiaxialCase)
+
+    def __post_init__(self):
+        check_fields(self)
+        # a test is ~10 min at the paper's grain size (12.7k disks, 80 sweeps): 100 are ~17 h
+        if len(self.frictions) + len(self.pressures) > 100:
+            raise InvalidParameter("frictions", f"{len(self.frictions)} values",
+                                   f"a list of at most {100 - len(self.pressures)} values",
+                                   "at most 100 tests with the pressures, ~10 min a test at the paper's grain size")
 
 
 def run_one(case: BiaxialCase, bar=None, label: str = "") -> tuple[dict, BiaxialTest, float]:

@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import RECORDING, number, output_folder
+from ..options import RECORDING, output_folder
 from ..study import Command, Option, Study
 from .case import DIRECTIONS, GEOMETRIES, WALLS, WALLS_B
 
@@ -41,7 +41,7 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
             bar.update(task, completed=100 * hw / case.section().height_m, status=f"crest {crest * 1e3:.2f} mm")
         result, folder = compare_wall(case, root=Path(opts.out), rrd=opts.rrd if isinstance(opts.rrd, str) else None,
                                       record=not opts.no_rrd, spawn=opts.spawn, progress=tick)
-    return result, closing_line(result, None, folder)
+    return result, closing_line(result, folder)
 
 
 _PHASES = ("drop", "place", "settle", "read")
@@ -62,7 +62,7 @@ def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
                               f"{r['steps']} steps, stage CPU {sum(r.get(f'cpu_{k}_s', 0.0) for k in _PHASES):.0f} s")
         result, folder = compare_backfill(case, root=Path(opts.out), rrd=opts.rrd if isinstance(opts.rrd, str) else None,
                                           record=not opts.no_rrd, spawn=opts.spawn, progress=tick)
-    return result, closing_line(result, None, folder)
+    return result, closing_line(result, folder)
 
 
 def _compare_b_text(r: dict) -> str:
@@ -144,21 +144,21 @@ def _seeds(text: str) -> tuple[int, ...]:
         seeds = tuple(int(w) for w in text.split(",") if w.strip())
     except ValueError:
         seeds = ()
-    if not seeds or min(seeds) < 0 or len(set(seeds)) < len(seeds):
-        raise InvalidParameter("backfill-seeds", text, "a comma list of distinct integers >= 0")
+    from analytic.schema import MAX_SEED
+    if not seeds or min(seeds) < 0 or max(seeds) > MAX_SEED or len(set(seeds)) < len(seeds):
+        raise InvalidParameter("backfill-seeds", text, f"a comma list of distinct integers in [0, {MAX_SEED}]")
     return seeds
 
 
 _CASE_OPTIONS = (
     Option("--geometry", "back-fit (reference 2.3) or disk-count (reference 6) (back-fit)", key="geometry",
            choices=GEOMETRIES),
-    Option("--unit-weight", "masonry unit weight gamma_m [kN/m3] (20, assumed)", key="unit_weight_kN_m3",
-           parse=number("unit-weight", 5, 40, unit="kN/m3")),
+    Option("--unit-weight", "masonry unit weight gamma_m [kN/m3] (20, assumed)", key="unit_weight_kN_m3"),
     Option("--joint-slope", "joint counter-slope alpha [deg] (the wall's: V5S 8.53, others 0 assumed)",
-           key="joint_slope_deg", parse=number("joint-slope", 0, 30, lo_open=False, unit="deg")),
+           key="joint_slope_deg"),
     Option("--water-direction", "normal to the current face, or fixed at its initial normal (the paper's) (normal)",
            key="water_direction", choices=DIRECTIONS),
-    Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 1e-5, 2e-3, lo_open=False, unit="s")),
+    Option("--dt", "time step [s] (5e-4)", key="dt"),
 )
 
 COMPARE = Command(

@@ -8,10 +8,11 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Literal
 
 from analytic.drystone import WallSection
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.schema import check_fields, param, seed_param
 
 WALLS = ("V1L", "V2L", "V3L", "V4L", "V5S")
 #: case B: Colas's walls under gravel backfill (reference 3)
@@ -30,71 +31,69 @@ def reference() -> dict:
 @dataclass(frozen=True)
 class BackfillSettings:
     """Case B (``dem2d.backfill``), used by the C walls only. Local values: ours from
-    docs/validation/gravel_calibration.md (rigid rounded hexagons), the paper's (PFC2D) beside.
+    docs/validation/gravel_calibration.md (rigid rounded hexagons), the paper's (PFC2D) beside."""
 
-    grain_friction_deg:     grain-grain local friction [deg] (ours 50: nearest to both biaxial
-                            targets at 35 kPa, peak 36.7 (37.7) and critical state 31.2 (32);
-                            paper's 45)
-    interface_friction_deg: fill-block local friction [deg] (ours 45: global 37.7 on a flat
-                            face is out of reach, the global angle stays at 28-30 deg for any
-                            local value from 45 to 89; 45 gives the highest, 30.4; paper's 25)
-    placement_friction_deg: fill-fill friction while a layer falls [deg] (ours 45: n = 0.22
-                            in ``GravelBox``; paper's 15.6, n = 0.146 here)
-    width_min_m, width_max_m: grain widths [m] (10-16 mm; larger only for tests)
-    grain_shape:            hexagon (rounded elongated hexagon, the calibrated one, default) |
-                            capsule | clump3 (``dem2d.gravel``; the local frictions above are the
-                            hexagons': another shape needs its own calibration (capsules: 72.8 and
-                            84.6 deg), gravel_calibration_discussion.md). Why hexagons: capsules
-                            calibrated on the peak have a critical state of 25 deg, under the
-                            32-deg slope the fill is re-cut to
-    layer_m, slope_deg, container_m, formwork_m: ``FillPlan`` (0.10 m, 32 deg, 2.5 m; the
-                            formwork column height [A] 1.0 m)
-    formwork:               "crest" (S-OET 5.2: the column is fixed to the inner face, part of
-                            the innermost top-course block, so the fill above the crest loads
-                            the wall through it; the default) | "fixed" (a static column, as
-                            the site's formwork carried by the side formworks)
-    max_height_m:           stop filling at this height at the inner face [m] (None: the
-                            crest plus the formwork)
-    hold_depth_m, hold_distance_m: grains held static this far below the surface and from
-                            the inner face [m] (None: no hold) [A]: outside the failure wedge
-    iterations:             sweeps per step (40: the gravel's calibration solver; case A
-                            uses the case's ``iterations``)
-    seed:                   grain sizes and orientations
-    """
-
-    grain_friction_deg: float = 50.0
-    interface_friction_deg: float = 45.0
-    placement_friction_deg: float = 45.0
-    width_min_m: float = 0.010
-    width_max_m: float = 0.016
-    grain_shape: str = "hexagon"
-    layer_m: float = 0.10
-    slope_deg: float = 32.0
-    container_m: float = 2.5
-    formwork_m: float = 1.0
-    formwork: str = "crest"
-    max_height_m: float | None = None
-    hold_depth_m: float | None = 0.5
-    hold_distance_m: float = 1.5
-    iterations: int = 40
-    seed: int = 1
+    # ours 50: nearest to both biaxial targets at 35 kPa, peak 36.7 (37.7) and critical state
+    # 31.2 (32)
+    grain_friction_deg: float = param(50.0, unit="deg", lo=0, hi=89,
+                                      meaning="grain-grain local friction angle (ours 50, calibrated; paper's 45)")
+    # ours 45: global 37.7 on a flat face is out of reach, the global angle stays at 28-30 deg for
+    # any local value from 45 to 89; 45 gives the highest, 30.4
+    interface_friction_deg: float = param(45.0, unit="deg", lo=0, hi=89,
+                                          meaning="fill-block local friction angle (ours 45, calibrated; paper's 25)")
+    # ours 45: n = 0.22 in ``GravelBox``; the paper's 15.6 gives n = 0.146 here
+    placement_friction_deg: float = param(
+        45.0, unit="deg", lo=0, hi=89,
+        meaning="fill-fill friction angle while a layer falls (ours 45; paper's 15.6)")
+    # the grain count goes as 1 / w^2: a fill of 4 mm grains holds ~10x C3S's 19,000 (~2e5 grains,
+    # ~0.7 GB at ~3.4 KB a pymunk grain) and takes ~10x its hour of CPU
+    width_min_m: float = param(0.010, unit="m", lo=0.004, hi=0.2, hi_open=True,
+                               meaning="smallest grain width (10 mm; larger only for tests)")
+    width_max_m: float = param(0.016, unit="m", lo=0.004, hi=0.2, hi_open=True,
+                               meaning="largest grain width, at least width_min_m (16 mm)")
+    # the local frictions above are the hexagons': another shape needs its own calibration
+    # (capsules: 72.8 and 84.6 deg), gravel_calibration_discussion.md. Why hexagons: capsules
+    # calibrated on the peak have a critical state of 25 deg, under the 32-deg slope the fill
+    # is re-cut to
+    grain_shape: Literal["capsule", "clump3", "hexagon"] = param(
+        "hexagon", unit="", meaning="grain shape (dem2d.gravel): hexagon, the calibrated one; capsule; clump3")
+    # stages go as 1 / layer: 1 cm layers are ~10x C3S's 26 stages, ~10 h of CPU; thinner than a
+    # grain means nothing
+    layer_m: float = param(0.10, unit="m", lo=0.01, hi=2, hi_open=True,
+                           meaning="rise of the fill surface at the inner face per stage (S-OET: 0.10)")
+    slope_deg: float = param(
+        32.0, unit="deg", lo=0, hi=60,
+        meaning="fill surface slope beta, re-cut each stage, rising away from the wall (S-OET: 32)")
+    # each stage drops a band across the whole container: 20 m is ~8x C3S's fill work, ~4e5 grains
+    # in all (~1.5 GB), ~8 h of CPU
+    container_m: float = param(2.5, unit="m", lo=0, hi=20, lo_open=True,
+                               meaning="fill width from the inner face at the heel (S-OET: 2.5 m container)")
+    # a 20 m column lets the fill rise ~9x as high as C3S's: ~9x the stages, ~4x the unheld
+    # grains, ~1.5 days of CPU
+    formwork_m: float = param(1.0, unit="m", lo=0, hi=20, hi_open=True,
+                              meaning="height of the formwork column above the crest [A] (1.0)")
+    formwork: Literal["crest", "fixed"] = param(
+        "crest", unit="",
+        meaning="crest: the column is part of the innermost top-course block (S-OET 5.2); fixed: a static column")
+    # as formwork_m: a 20 m fill, ~1.5 days of CPU
+    max_height_m: float | None = param(
+        None, unit="m", lo=0, hi=20, lo_open=True, hi_open=True,
+        meaning="stop filling at this height at the inner face; none: the crest plus the formwork")
+    hold_depth_m: float | None = param(0.5, unit="m", lo=0, hi=100, lo_open=True, hi_open=True,
+                                       meaning="grains this far below the surface are held static [A]; none: no hold")
+    hold_distance_m: float = param(
+        1.5, unit="m", lo=0, hi=100, lo_open=True, hi_open=True,
+        meaning="held grains are at least this far from the inner face, outside the failure wedge [A]")
+    iterations: int = param(40, lo=1, hi=500,
+                            meaning="contact-solver sweeps per step of case B (40: the gravel's calibration solver)")
+    seed: int = seed_param(1, meaning="random seed of the backfill: grain sizes and orientations")
 
     def __post_init__(self):
-        for name in ("grain_friction_deg", "interface_friction_deg", "placement_friction_deg"):
-            require_number(name, getattr(self, name), 0.0, 89.0, lo_open=False, hi_open=False, unit="deg")
-        require_number("width_min_m", self.width_min_m, 0.001, 0.2, unit="m")
-        require_number("width_max_m", self.width_max_m, self.width_min_m, 0.2, lo_open=False, unit="m")
-        if self.max_height_m is not None:
-            require_number("max_height_m", self.max_height_m, 0.0, 20.0, unit="m")
-        if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
-            raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
-        from dem2d.backfill import FORMWORKS
-        from dem2d.gravel import SHAPES
-        if self.grain_shape not in SHAPES:
-            raise InvalidParameter("backfill.grain_shape", self.grain_shape, " | ".join(SHAPES))
-        if self.formwork not in FORMWORKS:      # before the engine's, whose name is formwork_m's prefix
-            raise InvalidParameter("backfill.formwork", self.formwork, " | ".join(FORMWORKS))
-        try:                # the engine records check the rest (slope, layer, container, ...)
+        check_fields(self)
+        if not self.width_max_m >= self.width_min_m:
+            raise InvalidParameter("width_max_m", self.width_max_m, f"[{self.width_min_m:g}, 0.2) m",
+                                   "the largest grain is at least the smallest")
+        try:                # the engine records check the rest
             self.gravel()
             self.plan()
         except InvalidParameter as err:     # named by this record's key
@@ -117,61 +116,60 @@ class BackfillSettings:
 @dataclass(frozen=True)
 class DrystoneCase:
     """One of Villemus's walls loaded by water (case A), or one of Colas's walls under
-    gravel backfill (case B).
+    gravel backfill (case B)."""
 
-    wall:               V1L | V2L | V3L | V4L | V5S (case A) | C2S | C3S | C4L (case B)
-    geometry:           "back-fit" (reference 2.3, the default) or "disk-count" (reference 6)
-    unit_weight_kN_m3:  gamma_m [kN/m^3] (ASSUMPTION 20, plausible 18-22)
-    joint_slope_deg:    alpha [deg]; None: the wall's value (V5S 8.53 found, else 0 assumed)
-    height_m:           wall height [m]; None: the wall's (found). A smaller wall is for tests
-    base_width_m:       base width [m]; None: the geometry's (assumed or derived)
-    water_direction:    "normal" (to the current face) or "fixed" (S-OET's: the initial normal)
-    increment_fraction: water added per increment, fraction of h (S-OET: 0.01)
-    dt:                 time step [s]
-    iterations:         contact-solver sweeps per step
-    block_length_m, block_height_m: block size [m] (S-OET: 0.30 x 0.125 case A; None: the
-                        case's, 0.33 x 0.12 for case B)
-    backfill:           case B settings (``BackfillSettings``)
-    """
-
-    wall: str = "V1L"
-    geometry: str = "back-fit"
-    unit_weight_kN_m3: float = 20.0
-    joint_slope_deg: float | None = None
-    height_m: float | None = None
-    base_width_m: float | None = None
-    water_direction: str = "normal"
-    increment_fraction: float = 0.01
-    dt: float = 5e-4
-    iterations: int = 20
-    block_length_m: float | None = None
-    block_height_m: float | None = None
+    wall: Literal["V1L", "V2L", "V3L", "V4L", "V5S", "C2S", "C3S", "C4L"] = param(
+        "V1L", unit="", meaning="the wall: Villemus's V1L to V5S under water (case A), Colas's C2S, C3S, C4L under "
+                                "gravel (case B)")
+    geometry: Literal["back-fit", "disk-count"] = param(
+        "back-fit", unit="",
+        meaning="section estimate: back-fit (reference 2.3) or disk-count (reference 6; case A only)")
+    unit_weight_kN_m3: float = param(20.0, unit="kN/m^3", lo=5, hi=40, lo_open=True, hi_open=True,
+                                     meaning="masonry unit weight gamma_m (ASSUMPTION 20, plausible 18-22)")
+    joint_slope_deg: float | None = param(None, unit="deg", lo=0, hi=30, hi_open=True,
+                                          meaning="joint counter-slope alpha; none: the wall's (V5S 8.53 found, else 0 "
+                                                  "assumed)")
+    # a 20 x 10 m section of S-OET's blocks is ~5,000 blocks: up to 6e5 steps (100 increments of
+    # at most 3 s) at ~3e5 block-steps per CPU-s, ~3 h (V5S, 139 blocks, 45,000 steps: 16 s)
+    height_m: float | None = param(
+        None, unit="m", lo=0, hi=20, lo_open=True, hi_open=True,
+        meaning="wall height, at least two courses; none: the wall's (found); smaller is for tests")
+    base_width_m: float | None = param(
+        None, unit="m", lo=0, hi=10, lo_open=True, hi_open=True,
+        meaning="base width, at least one block; none: the geometry's (assumed or derived)")
+    water_direction: Literal["normal", "fixed"] = param(
+        "normal", unit="",
+        meaning="water pressure normal to the current face, or fixed at its initial normal (S-OET's)")
+    # 1e-4: 1e4 increments of ~400 steps, 4e6 steps: ~10 min for a 40-block wall, ~30 min for V5S
+    increment_fraction: float = param(
+        0.01, lo=1e-4, hi=0.2, hi_open=True,
+        meaning="water added per increment, as a fraction of the wall height (S-OET: 0.01)")
+    # below 1e-5 s a wall needs > 10^7 steps: no run would end
+    dt: float = param(5e-4, unit="s", lo=1e-5, hi=2e-3, hi_open=True, meaning="time step of the block solver")
+    iterations: int = param(20, lo=1, hi=500,
+                            meaning="contact-solver sweeps per step (case A; case B takes backfill.iterations)")
+    # the block count goes as 1 / (length x height): 0.05 x 0.02 m blocks make V5S ~5,200 blocks,
+    # ~15 min at its 45,000 steps (~3e5 block-steps per CPU-s); a 20 x 10 m section of them
+    # ~2e5 blocks (~0.6 GB), days
+    block_length_m: float | None = param(
+        None, unit="m", lo=0.05, hi=2, lo_open=True, hi_open=True,
+        meaning="block length; none: the case's, 0.30 (case A) or 0.33 (case B) (S-OET)")
+    block_height_m: float | None = param(
+        None, unit="m", lo=0.02, hi=1, lo_open=True, hi_open=True,
+        meaning="course height; none: the case's, 0.125 (case A) or 0.12 (case B) (S-OET)")
     backfill: BackfillSettings = BackfillSettings()
 
     def __post_init__(self):
-        if self.wall not in WALLS + WALLS_B:
-            raise InvalidParameter("wall", self.wall, " | ".join(WALLS + WALLS_B))
+        check_fields(self)
         if self.case_b and self.geometry not in GEOMETRY_B:
             raise InvalidParameter("geometry", self.geometry, " | ".join(GEOMETRY_B),
                                    "case B has the reference 3.3 back-analysis only")
-        if self.geometry not in GEOMETRIES:
-            raise InvalidParameter("geometry", self.geometry, " | ".join(GEOMETRIES))
-        if self.water_direction not in DIRECTIONS:
-            raise InvalidParameter("water_direction", self.water_direction, " | ".join(DIRECTIONS))
-        require_number("unit_weight_kN_m3", self.unit_weight_kN_m3, 5.0, 40.0, unit="kN/m^3")
-        if self.joint_slope_deg is not None:
-            require_number("joint_slope_deg", self.joint_slope_deg, 0.0, 30.0, lo_open=False, unit="deg")
-        if self.height_m is not None:
-            require_number("height_m", self.height_m, 2 * self.block_height, 20.0, unit="m")
-        if self.base_width_m is not None:
-            require_number("base_width_m", self.base_width_m, self.block_length, 10.0, unit="m")
-        require_number("increment_fraction", self.increment_fraction, 0.0, 0.2, unit="")
-        # below 1e-5 s a wall needs > 10^7 steps: no run would end
-        require_number("dt", self.dt, 1e-5, 2e-3, lo_open=False, unit="s")
-        if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
-            raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
-        require_number("block_length_m", self.block_length, 0.05, 2.0, unit="m")
-        require_number("block_height_m", self.block_height, 0.02, 1.0, unit="m")
+        if self.height_m is not None and not self.height_m > 2 * self.block_height:
+            raise InvalidParameter("height_m", self.height_m, f"({2 * self.block_height:g}, 20) m",
+                                   "at least two courses")
+        if self.base_width_m is not None and not self.base_width_m > self.block_length:
+            raise InvalidParameter("base_width_m", self.base_width_m, f"({self.block_length:g}, 10) m",
+                                   "at least one block long")
         self.section()        # the section itself checks the widths (crest > 0)
 
     @property

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import number, number_list, output_folder
+from ..options import output_folder
 from ..study import Command, Option, Study
 
 
@@ -79,11 +79,11 @@ CALIBRATE = Command(
     options=(Option("--tests", "both | biaxial | interface (both)", key="tests",
                     choices=("both", "biaxial", "interface")),
              Option("--frictions", "local grain frictions of the biaxial series [deg] (35,40,45,50,55)",
-                    key="frictions_deg", parse=number_list("frictions", lo=0, hi=90, unit="deg")),
+                    key="frictions_deg"),
              Option("--interface-frictions", "local fill-block frictions [deg] (37.7,45,60,75,89)",
-                    key="interface_frictions_deg", parse=number_list("interface-frictions", lo=0, hi=90, unit="deg")),
+                    key="interface_frictions_deg"),
              Option("--grain-friction", "grain friction of the interface series [deg] (from the biaxial series)",
-                    key="grain_friction_deg", parse=number("grain-friction", 0, 89, unit="deg")),
+                    key="grain_friction_deg"),
              Option("--docs", "also write gravel_calibration.{md,json} here (none)", metavar="DIR",
                     parse=output_folder("docs"))))
 

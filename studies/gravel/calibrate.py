@@ -28,10 +28,12 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
 from analytic.errors import InvalidParameter
+from analytic.schema import MAX_SEED, check_fields, param
 from dem2d.blocks import BlockSolver
 from dem2d.gravel import Gravel
 from dem2d.gravel_biaxial import GravelBiaxialCase
@@ -45,45 +47,37 @@ TARGET_PEAK_DEG, TARGET_CRITICAL_DEG, TARGET_INTERFACE_DEG = 37.7, 32.0, 37.7
 
 @dataclass(frozen=True)
 class GravelCalibration:
-    """What ``calibrate gravel`` runs.
+    """What ``calibrate gravel`` runs: the biaxial and interface series and their targets.
+    ``biaxial`` and ``shear`` take their grains from ``gravel`` with each test's frictions
+    (leave their own ``gravel`` at its default)."""
 
-    tests:                  both | biaxial | interface
-    frictions_deg:          local grain frictions of the biaxial series [deg]
-    seeds:                  specimens per friction, biaxial and interface (seed of each)
-    interface_frictions_deg: local fill-block frictions of the interface series [deg]
-    grain_friction_deg:     grain friction of the interface series [deg]; None: the one
-                            the biaxial series of this run gives (else ``gravel``'s)
-    target_peak_deg, target_critical_deg, target_interface_deg: the global targets [deg]
-                            (Colas: peak 37.7, critical state about 32, interface 37.7)
-    gravel:                 grading, shape (rounded hexagon: the one shape near both biaxial
-                            targets, gravel_shape_probe.json), density, placement friction
-    biaxial, shear:         the two tests (their ``gravel`` is replaced by ``gravel`` with
-                            each test's frictions; leave it at its default)
-    """
-
-    tests: str = "both"
-    frictions_deg: tuple[float, ...] = (35.0, 40.0, 45.0, 50.0, 55.0)
-    seeds: tuple[int, ...] = (1, 2)
-    interface_frictions_deg: tuple[float, ...] = (37.7, 45.0, 60.0, 75.0, 89.0)
-    grain_friction_deg: float | None = None
-    target_peak_deg: float = TARGET_PEAK_DEG
-    target_critical_deg: float = TARGET_CRITICAL_DEG
-    target_interface_deg: float = TARGET_INTERFACE_DEG
+    tests: Literal["both", "biaxial", "interface"] = param(
+        "both", unit="", meaning="which series to run: both, biaxial (grain friction) or interface (fill-block)")
+    frictions_deg: tuple[float, ...] = param(
+        (35.0, 40.0, 45.0, 50.0, 55.0), unit="deg", lo=0, hi=89,
+        meaning="local grain frictions of the biaxial series, one test per friction and seed")
+    seeds: tuple[int, ...] = param(
+        (1, 2), lo=0, hi=MAX_SEED,
+        meaning="random seeds of the specimens, one biaxial and one interface test per seed and friction")
+    interface_frictions_deg: tuple[float, ...] = param(
+        (37.7, 45.0, 60.0, 75.0, 89.0), unit="deg", lo=0, hi=89,
+        meaning="local fill-block frictions of the interface series, one test per friction and seed")
+    grain_friction_deg: float | None = param(
+        None, unit="deg", lo=0, hi=89,
+        meaning="grain friction of the interface series; none: the biaxial series' choice (else gravel's)")
+    target_peak_deg: float = param(TARGET_PEAK_DEG, unit="deg", lo=0, hi=90, lo_open=True, hi_open=True,
+                                   meaning="global biaxial peak friction angle to reach (Colas: 37.7)")
+    target_critical_deg: float = param(TARGET_CRITICAL_DEG, unit="deg", lo=0, hi=90, lo_open=True, hi_open=True,
+                                       meaning="global critical-state friction angle to reach (Colas: about 32)")
+    target_interface_deg: float = param(TARGET_INTERFACE_DEG, unit="deg", lo=0, hi=90, lo_open=True, hi_open=True,
+                                        meaning="global interface friction angle to reach (Colas: 37.7)")
+    # rounded hexagon: the one shape near both biaxial targets (gravel_shape_probe.json)
     gravel: Gravel = Gravel(placement_friction_deg=45.0, shape="hexagon")
     biaxial: GravelBiaxialCase = GravelBiaxialCase(width=0.7, height=1.4)
     shear: ShearCase = ShearCase(speed_m_s=5e-3, displacement_m=0.02, solver=BlockSolver(dt=5e-4, iterations=40))
 
     def __post_init__(self):
-        if self.tests not in TESTS:
-            raise InvalidParameter("tests", self.tests, " | ".join(TESTS))
-        for name in ("frictions_deg", "interface_frictions_deg"):
-            vals = getattr(self, name)
-            if not vals or any(not (0.0 <= v <= 89.0) for v in vals):
-                raise InvalidParameter(name, vals, "one or more angles in [0, 89] deg")
-        if not self.seeds or any(not isinstance(s, int) for s in self.seeds):
-            raise InvalidParameter("seeds", self.seeds, "one or more whole numbers")
-        if self.grain_friction_deg is not None and not (0.0 <= self.grain_friction_deg <= 89.0):
-            raise InvalidParameter("grain_friction_deg", self.grain_friction_deg, "[0, 89] deg")
+        check_fields(self)
         for name in ("biaxial", "shear"):
             if getattr(self, name).gravel != Gravel():
                 raise InvalidParameter(f"{name}.gravel", "set", "its default", "set the grains through gravel.*")

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import number, output_file, output_folder
+from ..options import output_file, output_folder
 from ..report import reduced_size_line
 from ..runner import closing_line
 from ..study import Command, Option, Study
@@ -32,7 +32,7 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from .compare import compare_khosravi
     result, rf = compare_khosravi(case, root=opts.out, rrd=opts.rrd, quiet=opts.quiet,
                                   specimen_cache=not opts.no_cache)
-    return result, closing_line(result, scale_note(case, result), rf.path)
+    return result, closing_line(result, rf.path)
 
 
 def scale_note(case, result: dict) -> str | None:
@@ -84,16 +84,15 @@ def _validate_text(report: dict) -> str:
     return f"wrote {report['paths']['json']} and {report['paths']['md']}"
 
 
-_H = Option("--H", "backfill height [m] (0.3; paper: 0.2, 0.25, 0.3)", key="H",
-            parse=number("H", 0, 0.4, hi_open=False, unit="m"))
+_H = Option("--H", "backfill height [m] (0.3; paper: 0.2, 0.25, 0.3)", key="H")
 _SCALE = Option("--particles-scale", "multiply every grain diameter (1 = D50 1.16 mm, ~62k disks at H 0.3; "
-                                     "2 = ~15k) (1)", key="particles_scale", parse=number("particles-scale", 0, None))
+                                     "2 = ~15k) (1)", key="particles_scale")
 
 COMPARE = Command(
     verb="compare", help="Khosravi et al.'s box: pluviation, at rest, translation to Dis/H = 0.003",
     description="2D disks (pymunk) in a 220 x 400 mm box, rough wall of 40 pressure cells. "
                 "Example: wallsim compare khosravi --H 0.3 --particles-scale 2 --rrd",
-    default_case=_default_case, run=_compare, text=_compare_text,
+    default_case=_default_case, run=_compare, text=_compare_text, scale_note=lambda case, result: scale_note(case, result),
     options=(_H, _SCALE,
              Option("--rrd", "write a recording (disks, walls, force chains): recording.rrd in the run folder, "
                              "or FILE (off by default)", metavar="FILE", parse=output_file("rrd", (".rrd",)),

@@ -72,7 +72,7 @@ def run_backfilling(case: KhosraviCase, *, root: str | Path = "runs", quiet: boo
               "layer_dt_s": case.pluviation.layer_dt, "run_dt_s": case.solver.dt, "sweeps": case.solver.iterations,
               "unread_cells_below_surface": unread, "specimen_reused": reused,
               "timings_s": {**clock.seconds, "cpu_total": time.process_time() - c_start}}
-    finish(rf, result, n_grains=bf.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
+    finish(rf, result, main=False, n_grains=bf.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
            friction=case.friction, wall_friction=case.material.wall_friction, specimen_reused=reused,
            **result["timings_s"])
     return result, rf

@@ -22,12 +22,13 @@ at x = box_width. Panel 0 of the wall is the bottom segment (PS0).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.schema import check_fields, param, seed_param
 
 from dem2d.build import Grains, friction_split, new_space
 from dem2d.grading import Grading
@@ -42,6 +43,10 @@ MIN_READING_PANELS = 4
 #: the coarsest grains: this many d50 across the fill height and the box width (the
 #: tiny box of the tests, H 0.1 m at scale 5, has 17)
 MIN_GRAINS_ACROSS = 8
+#: the most disks a case may hold: pymunk keeps ~4.2 kB a packed disk (measured: 200k disks,
+#: 0.84 GB), so ~4 GB, and steps ~5e4 disks a CPU-second at 80 sweeps (0.58 s a step at 61k,
+#: slower per disk in larger spaces): ~20 s a step, the case's ~1e4 steps ~2 days
+MAX_DISKS = 1_000_000
 
 #: The Khosravi fill: 20 mm layers; grains deeper than 20 mm below the surface are held
 #: static while the next layers fall (at 4e-4 s a step), all are released for the last
@@ -53,91 +58,90 @@ HELD_LAYERS = Pluviation(layer_thickness=0.02, hold_depth=0.02, layer_dt=4e-4, f
 
 @dataclass(frozen=True)
 class KhosraviCase:
-    """Khosravi et al.'s box, backfill and wall movement (module docstring).
+    """Khosravi et al.'s box, backfill and wall movement (module docstring)."""
 
-    H:                backfill height [m] (paper: 0.2, 0.25, 0.3)
-    box_width, box_height: inside of the box [m]
-    n_panels:         segments of the retaining wall over box_height
-    d50, cu:          grading of the disks [m, -]
-    particles_scale:  multiply every diameter by this (coarser grains, same box)
-    gs:               specific gravity of the grains
-    friction:         particle-particle Coulomb coefficient; 0.54 is the biaxial calibration at
-                      full grain size and 80 sweeps a step, the readings' solver (peak phi
-                      20.49 deg, the paper's 20.7 by interpolation at 0.555; the critical
-                      state saturates at 18-19.7 deg for mu 0.43-0.8;
-                      studies/biaxial/cards/biaxial_full_it80.json). Coarser grains give a lower
-                      phi at the same friction: compare reports the phi it measures.
-    wall_friction:    particle-wall coefficient; None = friction ("fully rough")
-    floor_friction:   particle-floor coefficient; None = friction
-    far_wall_friction: particle-far-wall coefficient (0 = smooth)
-    wall_speed:       translation speed of the wall away from the backfill [m/s]; 4 mm/s
-                      against 2 changed the active thrust at Dis/H 0.003 by 0.3 % (2x
-                      coarser grains, same specimen; docs/dem2d.md)
-    wall_disp_over_H_max:   end of the translation, Dis/H
-    wall_disp_over_H_active: where the active profile and thrust are read, Dis/H (the paper's
-                      0.003; at the end if the wall stops earlier). Moving on past it is
-                      what lets the steadiness of the pressure be judged
-    window:           averaging window of the pressure cells [s]
-    rest_time:        extra settling before the at-rest reading [s]
-    seed:             random seed (grading, cloud positions, insertion order)
-    solver:           dt 2e-4 s and 40 Gauss-Seidel sweeps a step for the fill
-    reading_iterations: 80 sweeps a step from the at-rest settling on (readings and
-                      translation); None = solver.iterations. The moving wall needs more
-                      than the settling fill: with 10 sweeps the unconverged impulses made
-                      the full-size fill soft and the active thrust at Dis/H 0.003 read
-                      1.11 x Rankine, 20 -> 1.05, 40 -> 1.00 (one specimen), and on the
-                      validated one 0.89 -> 0.82 from 40 to 80, while the at-rest K moves
-                      by 2 % (docs/dem2d.md, "Sweeps per step"). 80 throughout would add
-                      ~13 min to the fill
-    pluviation:       ``HELD_LAYERS`` (above)
-    """
-
-    H: float = 0.3
-    box_width: float = 0.22
-    box_height: float = 0.40
-    n_panels: int = 40
-    d50: float = 1.16e-3
-    cu: float = 1.55
-    particles_scale: float = 1.0
-    gs: float = 2.65
-    friction: float = 0.54
-    wall_friction: float | None = None
-    floor_friction: float | None = None
-    far_wall_friction: float = 0.0
-    wall_speed: float = 4e-3
-    wall_disp_over_H_max: float = 0.003
-    wall_disp_over_H_active: float = 0.003
-    window: float = 0.01
-    rest_time: float = 0.05
-    seed: int = 1
+    # the box and the fill set the disk count, W H 0.85 / mean disk area (61k at the paper's
+    # 0.22 x 0.3 m): 2 m x 0.3 m of the paper's grains is ~565k disks; MAX_DISKS bounds the product
+    H: float = param(0.3, unit="m", lo=0, hi=2, lo_open=True,
+                     meaning="backfill height, at most box_height (paper: 0.2, 0.25, 0.3)")
+    box_width: float = param(0.22, unit="m", lo=0, hi=2, lo_open=True,
+                             meaning="inside width of the box, wall to far wall (paper 0.22)")
+    box_height: float = param(0.40, unit="m", lo=0, hi=2, lo_open=True,
+                              meaning="inside height of the box and of both walls (paper 0.40)")
+    # a segment is one shape and one column of readings, nothing beside the disks; 1000 segments
+    # of the 0.4 m wall are 0.4 mm each, below the finest grain
+    n_panels: int = param(40, lo=1, hi=1000,
+                          meaning="segments (pressure cells) of the retaining wall over box_height (paper 40 "
+                                  "of 10 mm)")
+    # below 0.25 x the paper's D50 the paper's box holds > 16 x its 61k disks (MAX_DISKS)
+    d50: float = param(1.16e-3, unit="m", lo=2.5e-4, meaning="median disk diameter by mass (paper 1.16 mm)")
+    cu: float = param(1.55, lo=1, hi=6, hi_open=True,
+                      meaning="uniformity coefficient D60 / D10 of the linear-by-mass grading (paper 1.55)")
+    # 0.25: 16 x the paper's disks, ~1M in its box (MAX_DISKS); the upper end is set by the grains
+    # that must fit across H and the box (__post_init__)
+    particles_scale: float = param(1.0, lo=0.25,
+                                   meaning="multiply every diameter by this (coarser grains, same box; 2 = ~15k "
+                                           "disks at H 0.3)")
+    gs: float = param(2.65, lo=0, hi=20, lo_open=True, meaning="specific gravity of the grains (paper 2.65)")
+    # 0.54 is the biaxial calibration at full grain size and 80 sweeps a step, the readings'
+    # solver (peak phi 20.49 deg, the paper's 20.7 by interpolation at 0.555; the critical
+    # state saturates at 18-19.7 deg for mu 0.43-0.8; studies/biaxial/cards/biaxial_full_it80.json).
+    # Coarser grains give a lower phi at the same friction: compare reports the phi it measures.
+    friction: float = param(0.54, lo=0,
+                            meaning="particle-particle Coulomb coefficient (0.54: the biaxial calibration for "
+                                    "phi 20.7 deg at full size and 80 sweeps)")
+    wall_friction: float | None = param(None, lo=0,
+                                        meaning="particle-wall coefficient (none = friction, \"fully rough\")")
+    floor_friction: float | None = param(None, lo=0, meaning="particle-floor coefficient (none = friction)")
+    far_wall_friction: float = param(0.0, lo=0, meaning="particle-far-wall coefficient (0 = smooth)")
+    # 4 mm/s against 2 changed the active thrust at Dis/H 0.003 by 0.3 % (2x coarser grains,
+    # same specimen; docs/dem2d.md). The translation is wall_disp_over_H_max H / wall_speed: at the
+    # paper's 0.002 mm/s, Dis/H 0.003 at H 0.3 is 450 s, 2.25e6 steps at 2e-4 s, ~2 weeks at 61k
+    # disks (~0.6 s a step at 80 sweeps), ~2 days at particles_scale 2; slower has no run that ends
+    wall_speed: float = param(4e-3, unit="m/s", lo=2e-6,
+                              meaning="translation speed of the wall away from the backfill (the paper's PFC: "
+                                      "0.002 mm/s)")
+    # 0.1 at 4 mm/s and H 0.3 is 7.5 s, 3.75e4 steps, ~6 h at 61k disks and 80 sweeps
+    wall_disp_over_H_max: float = param(0.003, lo=0, hi=0.1, lo_open=True, hi_open=True,
+                                        meaning="end of the translation, Dis/H")
+    # moving on past it is what lets the steadiness of the pressure be judged
+    wall_disp_over_H_active: float = param(0.003, lo=0, hi=0.1, lo_open=True, hi_open=True,
+                                           meaning="where the active profile and thrust are read, Dis/H (the "
+                                                   "paper's 0.003; at the end if the wall stops earlier)")
+    # one reading runs window / dt steps: 1 s is 5000 steps at 2e-4 s, ~50 min at 61k disks
+    window: float = param(0.01, unit="s", lo=0, hi=1, lo_open=True, meaning="averaging window of the pressure cells")
+    # 10 s is 5e4 steps at 2e-4 s, ~8 h at 61k disks and 80 sweeps
+    rest_time: float = param(0.05, unit="s", lo=0, hi=10, meaning="extra settling before the at-rest reading")
+    seed: int = seed_param(1, meaning="random seed of the grading, cloud positions and insertion order: the same "
+                                      "seed gives the same bits")
+    # dt 2e-4 s and 40 Gauss-Seidel sweeps a step for the fill
     solver: Solver = field(default_factory=lambda: Solver(dt=2e-4, iterations=40))
-    reading_iterations: int | None = 80
+    # The moving wall needs more sweeps than the settling fill: with 10 the unconverged
+    # impulses made the full-size fill soft and the active thrust at Dis/H 0.003 read
+    # 1.11 x Rankine, 20 -> 1.05, 40 -> 1.00 (one specimen), and on the validated one
+    # 0.89 -> 0.82 from 40 to 80, while the at-rest K moves by 2 % (docs/dem2d.md, "Sweeps
+    # per step"). 80 throughout would add ~13 min to the fill. 1000 as Solver.iterations.
+    reading_iterations: int | None = param(80, lo=1, hi=1000,
+                                           meaning="sweeps a step from the at-rest settling on (readings and "
+                                                   "translation); none = solver.iterations")
     pluviation: Pluviation = field(default_factory=lambda: HELD_LAYERS)
 
     def __post_init__(self):
-        require_number("H", self.H, 0.0, None, unit="m")
-        require_number("box_height", self.box_height, 0.0, None, unit="m")
+        check_fields(self)
         if self.H > self.box_height:
             raise InvalidParameter("H", self.H, f"(0, {self.box_height:g}] m", "higher than the box")
-        require_number("box_width", self.box_width, 0.0, None, unit="m")
-        require_number("particles_scale", self.particles_scale, 0.0, None)
         if self.H < MIN_READING_PANELS * self.box_height / self.n_panels:
             raise InvalidParameter("H", self.H, f"[{MIN_READING_PANELS * self.box_height / self.n_panels:g}, "
                                                 f"{self.box_height:g}] m", "no 4-panel reading below the surface")
         most = min(self.H, self.box_width) / (MIN_GRAINS_ACROSS * self.d50)
         if self.particles_scale > most:
-            raise InvalidParameter("particles_scale", self.particles_scale, f"(0, {most:.3g}]",
+            raise InvalidParameter("particles_scale", self.particles_scale, f"[0.25, {most:.3g}]",
                                    f"grains of {MIN_GRAINS_ACROSS} x d50 x scale must fit across H and the box")
-        require_number("friction", self.friction, 0.0, None, lo_open=False)
-        require_number("wall_speed", self.wall_speed, 0.0, None, unit="m/s")
-        require_number("wall_disp_over_H_max", self.wall_disp_over_H_max, 0.0, 0.1)
-        require_number("wall_disp_over_H_active", self.wall_disp_over_H_active, 0.0, 0.1)
-        require_number("window", self.window, 0.0, None, unit="s")
-        if not (isinstance(self.n_panels, int) and self.n_panels >= 1):
-            raise InvalidParameter("n_panels", self.n_panels, "an integer >= 1")
-        if self.reading_iterations is not None and not (
-                isinstance(self.reading_iterations, int) and self.reading_iterations >= 1):
-            raise InvalidParameter("reading_iterations", self.reading_iterations, "an integer >= 1, or unset")
+        disks = self.box_width * self.H * 0.85 / self.grading.mean_area()     # as build_box expects
+        if disks > MAX_DISKS:
+            least = self.particles_scale * math.sqrt(disks / MAX_DISKS)
+            raise InvalidParameter("particles_scale", self.particles_scale, f">= {least:.3g}",
+                                   f"~{disks:,.0f} disks, more than {MAX_DISKS:,}: coarser grains or a smaller box")
 
     @property
     def grading(self) -> Grading:

@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 from analytic.errors import InvalidParameter
 
-from ..options import RECORDING, count, output_folder
+from ..options import RECORDING, RESUME, output_folder
 from ..report import reduced_size_line
 from ..runner import closing_line
 from ..study import Command, Option, Study
@@ -52,7 +52,7 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
         result, folder = compare_nadukuru(case, wall_kind(case), root=root, rrd=kept["rrd"], spawn=opts.spawn,
                                           every=kept["every"], record=not kept["no_rrd"], progress=bar,
                                           resume=Path(opts.resume) if opts.resume else None)
-    return result, closing_line(result, scale_note(case, result), folder)
+    return result, closing_line(result, folder)
 
 
 def scale_note(case, result: dict) -> str | None:
@@ -113,15 +113,14 @@ COMPARE = Command(
                 "or rotates to Delta/H = 0.008. DEM K and resultant height beside the paper, Fang & Ishibashi, "
                 "Coulomb, Rankine and the DSM. Example: wallsim compare nadukuru --mode RT --wall rough "
                 "--particles 6000",
-    default_case=_default_case, run=_compare, text=_compare_text, busy_note=True,
+    default_case=_default_case, run=_compare, text=_compare_text, busy_note=True, scale_note=scale_note,
     options=(
         Option("--mode", "T translation, RB rotation about the base, RT about the top, mixed about a point H/2 "
                          "above the top (T)", key="movement.mode", choices=MODES),
         Option("--wall", "wall friction 0.35 (rough) or 0 (smooth) (rough)", key="wall.friction",
                choices=("rough", "smooth"), to_case=_wall_friction),
-        Option("--particles", _PARTICLES_HELP + " (30000)", key="specimen.particles", parse=count("particles")),
-        Option("--resume", "continue an interrupted run from its folder (uses that folder's config.toml)",
-               metavar="RUN_DIR"),
+        Option("--particles", _PARTICLES_HELP + " (30000)", key="specimen.particles"),
+        RESUME,
         *RECORDING,
     ))
 
@@ -131,7 +130,7 @@ VALIDATE = Command(
                 "translation; writes docs/validation/nadukuru.{md,json} and figures.",
     default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True, figures=_validate_figures,
     options=(
-        Option("--particles", "spheres (30000)", key="specimen.particles", parse=count("particles")),
+        Option("--particles", "spheres (30000)", key="specimen.particles"),
         Option("--walls", "comma list of rough, smooth (rough,smooth)", parse=_word_list("walls", ("rough", "smooth")),
                default=["rough", "smooth"]),
         Option("--modes", "comma list of T, RB, RT, mixed (all)", parse=_word_list("modes", MODES),

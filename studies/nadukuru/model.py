@@ -34,7 +34,8 @@ import numpy as np
 
 import dem3d
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.inputs import MAX_HEIGHT_M
+from analytic.schema import check_fields, param, seed_param
 from dem3d import measure
 
 from ..config import with_current_names
@@ -52,141 +53,139 @@ MODE_TITLES = {"T": "translation", "RB": "rotation about the base", "RT": "rotat
 _CLUMP_VOLUME_FACTOR = 2.0 - (5.0 / 12.0) / (4.0 / 3.0)
 
 
+#: the longest run a case may ask for, in particle-steps (spheres x time steps): ~6 days
+#: on 2 cores at the 4e6 particle-steps/s of the paper-scale preparation (29,053 spheres,
+#: 60,478 steps in 394 s, docs/validation/nadukuru_prep_time_2threads_alone.json)
+MOST_PARTICLE_STEPS = 2e12
+
+
 @dataclass(frozen=True)
 class SpecimenRecipe:
-    """How the backfill is made. Lengths in m, stiffness in N/m, density in kg/m^3.
+    """How the backfill is made: Nadukuru & Michalowski's grains, contacts and raining."""
 
-    particles:            spheres including clump members (PFC "balls"; paper ~30,000)
-    clump_fraction:       fraction of the bodies that are two-sphere clumps (paper 0.30)
-    clump_overlap:        overlap of the two clump spheres in radii (paper 1.0)
-    d_min, d_max:         sphere diameters, uniform (paper 0.046-0.0736 at 30,000 particles;
-                          fewer particles scale the grains up so the same box is filled)
-    kn, ks, particle_friction, density: contact and grain properties (paper values)
-    damping_ratio:        viscous normal damping, fraction of critical (not given in the paper)
-    local_damping:        PFC local damping while raining and settling (0.7 is PFC's default)
-    deposition_friction:  particle friction while raining (< particle_friction densifies; 0.1
-                          gave porosity 0.348 at 3000 particles, 0 gave 0.330, paper ~0.35)
-    deposition_gravity:   gravity while the grains fall and pack, as a fraction of g (a
-                          shorter fall; with frictionless deposition the packing does not
-                          depend on it)
-    deposition_softening: kn and ks are divided by this while the grains fall and pack
-                          (a sqrt(softening) larger time step; the paper's stiffness is
-                          restored before friction is switched on)
-    rain_gravity:         gravity at which the particle friction is switched on, as a
-                          fraction of g; the fill is then loaded to full g with friction (a
-                          1D compression that sets the at-rest K: at 3,000 particles 1.0 / 0.5
-                          / 0.25 / 0.1 gave K0 0.83 / 0.54 / 0.41 / 0.34; at 29,000, 0.25 gave
-                          0.458 and 0.1 gave 0.396 against the paper's 0.385)
-    floor_friction:       friction of the floor (not given in the paper). 0.2 was fitted to
-                          one number, the rough-wall translation resultant height (paper
-                          scale: floor 0 / 0.2 / 0.65 gave h/H 0.308 / 0.401 / 0.444 against
-                          0.391), and then predicted the smooth-wall translation (K 0.220,
-                          h/H 0.418 against 0.230 / 0.401; 0.472 with floor 0.65) and the
-                          rough mixed mode (docs/validation/nadukuru_floor_friction.json);
-                          a full validation at 0.1 misses 6 of the 14 table figures
-                          against 5 at 0.2 (docs/validation/archive/nadukuru_floor0.1/)
-    target_porosity:      porosity used to size the grains so the box fills to H
-    dt:                   time step [s] (None: 0.2 x the critical step)
-    settle_ratio:         unbalanced-force ratio that ends settling
-    """
-
-    particles: int = 30_000
-    clump_fraction: float = 0.30
-    clump_overlap: float = 1.0
-    d_min: float = 0.046
-    d_max: float = 0.0736
-    kn: float = 8.3e6
-    ks: float = 3.32e6
-    particle_friction: float = 0.65
-    density: float = 2650.0
-    damping_ratio: float = 0.2
-    local_damping: float = 0.7
-    deposition_friction: float = 0.1
-    floor_friction: float = 0.2
-    rain_gravity: float = 0.1
-    deposition_gravity: float = 2.0
-    deposition_softening: float = 10.0
-    target_porosity: float = 0.36
-    dt: float | None = None
-    settle_ratio: float = 2e-3
+    # ~4 KB a sphere (engine arrays, double-buffered neighbour pairs, a checkpoint copy):
+    # 1e6 spheres ~4 GB; the grains shrink and the time step with them (steps ~ sqrt(N)),
+    # so a mode takes ~(N / 30,000)^1.5 x 20 min: ~3 days at 1e6
+    particles: int = param(30_000, lo=50, hi=1_000_000,
+                           meaning="spheres including clump members (PFC balls; paper ~30,000 behind the wall, "
+                                   "8,200 in the triaxial test)")
+    clump_fraction: float = param(0.30, lo=0, hi=1, meaning="fraction of the bodies that are two-sphere clumps "
+                                                            "(paper 0.30)")
+    # 2 radii would make the two spheres one (dem3d.random_specimen's range)
+    clump_overlap: float = param(1.0, lo=0, hi=2, hi_open=True,
+                                 meaning="overlap of the two spheres of a clump, in radii (paper 1.0)")
+    d_min: float = param(0.046, unit="m", lo=0, lo_open=True,
+                         meaning="smallest sphere diameter, uniform up to d_max (paper 0.046 at 30,000 particles; "
+                                 "the wall box scales the grains up for fewer particles)")
+    d_max: float = param(0.0736, unit="m", lo=0, lo_open=True,
+                         meaning="largest sphere diameter, scaled with d_min (paper 0.0736 at 30,000 particles)")
+    kn: float = param(8.3e6, unit="N/m", lo=0, lo_open=True, meaning="normal contact stiffness (paper 8.3e6)")
+    ks: float = param(3.32e6, unit="N/m", lo=0, lo_open=True, meaning="shear contact stiffness (paper 3.32e6)")
+    particle_friction: float = param(0.65, lo=0, meaning="friction coefficient between grains (paper 0.65)")
+    density: float = param(2650.0, unit="kg/m^3", lo=0, lo_open=True, meaning="grain density (paper 2650)")
+    damping_ratio: float = param(0.2, lo=0, hi=1, hi_open=True,
+                                 meaning="viscous normal damping, fraction of critical (not given in the paper)")
+    local_damping: float = param(0.7, lo=0, hi=1, hi_open=True,
+                                 meaning="PFC local damping while raining and settling (0.7 is PFC's default)")
+    deposition_friction: float = param(
+        0.1, lo=0, meaning="particle friction while raining, below particle_friction to densify (0.1 gave "
+                           "porosity 0.348 at 3000 particles, 0 gave 0.330, paper ~0.35)")
+    # 0.2 was fitted to one number, the rough-wall translation resultant height (paper
+    # scale: floor 0 / 0.2 / 0.65 gave h/H 0.308 / 0.401 / 0.444 against 0.391), and then
+    # predicted the smooth-wall translation (K 0.220, h/H 0.418 against 0.230 / 0.401; 0.472
+    # with floor 0.65) and the rough mixed mode (docs/validation/nadukuru_floor_friction.json);
+    # a full validation at 0.1 misses 6 of the 14 table figures against 5 at 0.2
+    # (docs/validation/archive/nadukuru_floor0.1/)
+    floor_friction: float = param(0.2, lo=0, meaning="friction coefficient of the floor (not given in the paper; "
+                                                     "0.2 fitted to the rough-wall translation's resultant height)")
+    # the fill is loaded from here to full g with friction, a 1D compression that sets the
+    # at-rest K: at 3,000 particles 1.0 / 0.5 / 0.25 / 0.1 gave K0 0.83 / 0.54 / 0.41 / 0.34;
+    # at 29,000, 0.25 gave 0.458 and 0.1 gave 0.396 against the paper's 0.385
+    rain_gravity: float = param(0.1, lo=0, lo_open=True,
+                                meaning="gravity at which the particle friction is switched on, as a fraction "
+                                        "of g (sets the at-rest K)")
+    deposition_gravity: float = param(2.0, lo=0, lo_open=True,
+                                      meaning="gravity while the grains fall and pack, as a fraction of g (a "
+                                              "shorter fall; frictionless packing does not depend on it)")
+    # the paper's stiffness is restored before friction is switched on
+    deposition_softening: float = param(10.0, lo=0, lo_open=True,
+                                        meaning="kn and ks are divided by this while the grains fall and pack "
+                                                "(a sqrt(softening) larger time step)")
+    target_porosity: float = param(0.36, lo=0.2, hi=0.7, lo_open=True, hi_open=True,
+                                   meaning="porosity used to size the grains so the box fills to H (paper 0.36)")
+    dt: float | None = param(None, unit="s", lo=0, lo_open=True,
+                             meaning="time step (none: 0.2 x the critical step of the lightest grain)")
+    settle_ratio: float = param(2e-3, lo=0, lo_open=True, meaning="unbalanced-force ratio that ends settling")
 
     def __post_init__(self):
-        require_number("particles", self.particles, 50, None, lo_open=False)
-        require_number("clump_fraction", self.clump_fraction, 0, 1, lo_open=False, hi_open=False)
-        require_number("particle_friction", self.particle_friction, 0, None, lo_open=False)
-        require_number("deposition_friction", self.deposition_friction, 0, None, lo_open=False)
-        require_number("target_porosity", self.target_porosity, 0.2, 0.7)
-        require_number("damping_ratio", self.damping_ratio, 0, 1, lo_open=False)
-        require_number("local_damping", self.local_damping, 0, 1, lo_open=False)
-        for name in ("kn", "ks", "density", "d_min", "settle_ratio", "rain_gravity", "deposition_gravity",
-                     "deposition_softening"):
-            require_number(name, getattr(self, name), 0, None)
+        check_fields(self)
         if not self.d_min <= self.d_max:
             raise InvalidParameter("d_min, d_max", f"{self.d_min:g}, {self.d_max:g}", "d_min <= d_max [m]")
-        require_number("floor_friction", self.floor_friction, 0, None, lo_open=False)
-        if self.dt is not None:
-            require_number("dt", self.dt, 0, None, unit="s")
 
 
 @dataclass(frozen=True)
 class WallSetup:
-    """The wall and the box. height H and width w [m], 6 equal segments in the paper;
-    friction 0.35 (rough) or 0 (smooth); backfill length L behind the wall [m].
-    side_friction: None = periodic along the width (default); a number = two side walls
-    at y = 0 and y = w with this friction (0 = the paper's smooth side walls)."""
+    """The wall and the box behind it (the paper's 3.1 m wall of 6 segments)."""
 
-    height: float = 3.1
-    width: float = 0.5
-    segments: int = 6
-    friction: float = 0.35
-    backfill_length: float = 3.3
-    side_friction: float | None = None
+    # the particle count, not the box, sets memory and time (grain_scale sizes the grains to
+    # fill the box; NadukuruCase refuses a box the count cannot fill with grains of H / 10);
+    # above 100 m the theories beside the DEM refuse the wall (analytic.inputs.MAX_HEIGHT_M);
+    # the box's other sides as far
+    height: float = param(3.1, unit="m", lo=0, hi=MAX_HEIGHT_M, lo_open=True, meaning="wall height H (paper 3.1)")
+    width: float = param(0.5, unit="m", lo=0, hi=100, lo_open=True,
+                         meaning="width w of the backfill slab along the wall (0.5; a reduced run widens it to "
+                                 "3.4 grain diameters)")
+    # one wall panel each, read every step: 100 add nothing measurable
+    segments: int = param(6, lo=1, hi=100, meaning="equal wall segments whose stresses are read, bottom to top "
+                                                   "(paper 6)")
+    friction: float = param(0.35, lo=0, meaning="wall friction coefficient: 0.35 rough or 0 smooth (paper)")
+    backfill_length: float = param(3.3, unit="m", lo=0, hi=100, lo_open=True,
+                                   meaning="backfill length L from the wall to the far wall (3.3)")
+    side_friction: float | None = param(
+        None, lo=0, meaning="none: periodic along the width; a number: two side walls at y = 0 and y = w with this "
+                            "friction (0 = the paper's smooth side walls)")
 
     def __post_init__(self):
-        require_number("height", self.height, 0, None)
-        require_number("width", self.width, 0, None)
-        require_number("segments", self.segments, 1, 100, lo_open=False, hi_open=False)
-        require_number("friction", self.friction, 0, None, lo_open=False)
-        if self.side_friction is not None:
-            require_number("side_friction", self.side_friction, 0, None, lo_open=False)
+        check_fields(self)
 
 
 @dataclass(frozen=True)
 class Movement:
-    """Wall movement: mode T | RB | RT | mixed, to wall_disp_over_H (Delta at the edge opposite
-    the pivot, paper 0.008), at ``speed`` [m/s] of that edge after a ``ramp`` [s].
+    """How the wall moves away from the backfill (quasi-statically, to Delta/H)."""
 
-    local_damping: PFC local damping while the wall moves (0 = viscous contact damping
-    only). The paper does not say; PFC3D's default, 0.7, acts in every cycle unless the
-    user turns it off (`--set movement.local_damping=0.7` to run that way).
-    """
-
-    mode: Literal["T", "RB", "RT", "mixed"] = "T"
-    wall_disp_over_H: float = 0.008
-    speed: float = 0.02
-    ramp: float = 0.05
-    record_every: int = 50
-    local_damping: float = 0.0
+    mode: Literal["T", "RB", "RT", "mixed"] = param(
+        "T", unit="", meaning="how the wall moves: T translation, RB rotation about the base, RT about the top, "
+                              "mixed about a point H/2 above the top")
+    wall_disp_over_H: float = param(0.008, lo=0, hi=0.1, lo_open=True, hi_open=True,
+                                    meaning="Delta/H at the end, Delta at the edge opposite the pivot (paper 0.008)")
+    # the run's length (NadukuruCase, MOST_PARTICLE_STEPS) bounds a slow movement
+    speed: float = param(0.02, unit="m/s", lo=0, hi=1.0, lo_open=True, hi_open=True,
+                         meaning="speed of the edge opposite the pivot once ramped up (0.02)")
+    # 10 s: 4e5 steps of the paper-scale 2.6e-5 s, ~1 h at 30,000 spheres
+    ramp: float = param(0.05, unit="s", lo=0, hi=10, meaning="time over which the speed ramps up from 0 (0.05)")
+    # a sample's panel history is held in memory: 1e5 steps x (segments + 4) panels x 48 B,
+    # 500 MB at 100 segments
+    record_every: int = param(50, lo=1, hi=100_000, meaning="time steps averaged into one load sample (50)")
+    # the paper does not say; PFC3D's default, 0.7, acts in every cycle unless the user
+    # turns it off (`--set movement.local_damping=0.7` to run that way)
+    local_damping: float = param(0.0, lo=0, hi=1, hi_open=True,
+                                 meaning="PFC local damping while the wall moves (0: viscous contact damping only)")
 
     def __post_init__(self):
-        if self.mode not in MODES:
-            raise InvalidParameter("mode", self.mode, " | ".join(MODES))
-        require_number("wall_disp_over_H", self.wall_disp_over_H, 0, 0.1)
-        require_number("speed", self.speed, 0, 1.0, unit="m/s")
-        require_number("local_damping", self.local_damping, 0, 1, lo_open=False)
-        require_number("ramp", self.ramp, 0, None, lo_open=False, unit="s")
-        if not (isinstance(self.record_every, int) and self.record_every >= 1):
-            raise InvalidParameter("record_every", self.record_every, "a whole number >= 1", "steps per load sample")
+        check_fields(self)
 
 
 @dataclass(frozen=True)
 class NadukuruCase:
+    """One wall-movement run: the backfill recipe, the wall and box, the movement, the seed."""
+
     specimen: SpecimenRecipe = field(default_factory=SpecimenRecipe)
     wall: WallSetup = field(default_factory=WallSetup)
     movement: Movement = field(default_factory=Movement)
-    seed: int = 1
+    seed: int = seed_param(1)
 
     def __post_init__(self):
+        check_fields(self)
         rec = self.specimen
         if rec.dt is not None:
             safe = _dt(dataclasses.replace(rec, dt=None), grain_scale(rec, self.wall)[0])
@@ -197,6 +196,24 @@ class NadukuruCase:
         if self.specimen.particles < least:
             raise InvalidParameter("particles", self.specimen.particles, f">= {least} for this wall",
                                    f"fewer would need grains over H/{_GRAINS_PER_HEIGHT:g} to fill the box")
+        preparation, movement, dt = self.most_steps()
+        work = rec.particles * (preparation + movement)
+        if work > MOST_PARTICLE_STEPS:
+            raise InvalidParameter("particles x time steps", work, f"<= {MOST_PARTICLE_STEPS:g}",
+                                   f"up to {preparation:.3g} steps to prepare and {movement:.3g} to move the wall, "
+                                   f"of {dt:.3g} s: ~{work / 4e6 / 86400:.3g} days on 2 cores")
+
+    def most_steps(self) -> tuple[float, float, float]:
+        """(time steps of the preparation at most, of the movement, the time step [s]):
+        ``prepare_specimen``'s stages at their caps (fall from the tallest cloud, pack,
+        stiffen, friction on, load to g, at rest) and ``move_wall``'s."""
+        rec, wall = self.specimen, self.wall
+        dt = _dt(rec, grain_scale(rec, wall)[0])
+        dt_soft = dt * math.sqrt(rec.deposition_softening)
+        top = (1.0 - rec.target_porosity) * wall.height * _OVERFILL / _GENERATION_FRACTIONS[-1]
+        fall = 1.2 * math.sqrt(2.0 * top / (G * rec.deposition_gravity)) / dt_soft + 1.0 / dt_soft
+        settle = (1.0 + 2.0 + 2.0) / dt + 2000 + 5000 + 2000
+        return fall + settle, _movement_duration(self.movement, wall.height) / dt, dt
 
 
 #: the coarsest grains a reduced specimen may use: d_max x grain scale <= H / this

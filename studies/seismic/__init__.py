@@ -21,7 +21,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import number, number_list, output_file, output_folder
+from ..options import RESUME, number_list, output_file, output_folder
 from ..runner import closing_line
 from ..study import Command, Option, Study
 
@@ -33,15 +33,23 @@ def _default_case():
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
+    from ..runner import recorded_options, saved_options
     from .compare import compare_seismic
 
-    with progress(opts.quiet) as bar:
+    kept = {"rrd": opts.rrd}
+    root = Path(opts.out)
+    if opts.resume:
+        # a resume runs where the run started (its static-state cache is under that root)
+        # and records as it did
+        root = Path(opts.resume).resolve().parents[1]
+        kept |= saved_options(opts.resume)
+    with progress(opts.quiet) as bar, recorded_options(kept):
         task = bar.add_task("shaking", total=1, status="")
         result, folder = compare_seismic(
-            case, root=Path(opts.out), record=bool(opts.rrd), rrd=opts.rrd,
+            case, root=root, record=bool(kept["rrd"]), rrd=kept["rrd"] if isinstance(kept["rrd"], str) else None,
             progress=lambda done, total: bar.update(task, completed=done, total=total, status=""),
-            log=lambda msg: bar.update(task, status=msg))
-    return result, closing_line(result, scale_note(case), folder)
+            log=lambda msg: bar.update(task, status=msg), resume=Path(opts.resume) if opts.resume else None)
+    return result, closing_line(result, folder)
 
 
 def scale_note(case) -> str | None:
@@ -79,13 +87,14 @@ COMPARE = Command(
                 "cached for other frequencies); medium ~1.5 h, paper ~31 h (estimated). "
                 "Example: wallsim compare seismic --freq 5 --resolution coarse",
     default_case=_default_case, run=_compare, text=_text, busy_note=True,
+    scale_note=lambda case, result: scale_note(case),
     options=(
-        Option("--freq", "base-motion frequency, prototype [Hz] (5)", key="frequency",
-               parse=number("freq", 0.0, 20.0, unit="Hz")),
+        Option("--freq", "base-motion frequency, prototype [Hz] (5)", key="frequency"),
         Option("--resolution", "coarse (grains x 3), medium (x 2) or paper (1.5-2.5 mm grains) (coarse)",
                key="resolution", choices=("coarse", "medium", "paper")),
         Option("--rrd", "write a recording (recording.rrd in the run folder, or FILE)", metavar="FILE",
                parse=output_file("rrd", (".rrd",)), optional=True),
+        RESUME,
     ))
 
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.schema import check_fields, param, seed_param
 
 G = 9.81
 
@@ -40,133 +40,132 @@ PAPER_FREQUENCIES = (1.0, 3.0, 4.0, 5.0, 6.0)
 @dataclass(frozen=True)
 class SeismicCase:
     """Model units (SI) unless a name says prototype; defaults are the paper's values or
-    the reference's assumptions (reference.json tags each).
+    the reference's assumptions (reference.json tags each)."""
 
-    frequency:            base-motion frequency, prototype [Hz] (1-6 in the paper)
-    amplitude_g:          peak base acceleration, prototype [g] (0.1)
-    ramp_s, hold_s, decay_s: envelope of the base motion, prototype [s] (3, 4, 1; linear ramps [A])
-    end_s:                analysis length from the start of shaking, prototype [s] (9)
-    scale_N:              g-level N of the centrifuge model (50)
-    resolution:           coarse | medium | paper: the grain_scale preset (3, 2, 1)
-    grain_scale:          0 = from resolution; else grains and wall balls x this
-    retained_height:      soil height behind the wall [m] (0.18)
-    front_height:         soil height in front after excavation [m] (0.12)
-    wall_length:          sheet-pile length, top flush with the retained surface [m] (0.135)
-    behind:               lateral boundary distance behind the wall [m] (0.40)
-    front:                lateral boundary distance in front of the wall [m] (0.14)
-    width:                periodic slab thickness [m] (0.03)
-    d_min, d_max:         grain diameters at the paper's resolution [m] (1.5e-3, 2.5e-3)
-    grain_density:        [kg/m^3] (2650)
-    porosity:             target porosity of the deposit (0.40)
-    shear_modulus, poisson: grain elastic constants for Hertz-Mindlin [Pa], [-] (29 GPa, 0.15 [A])
-    friction:             inter-particle and wall-soil friction coefficient (0.5 [A])
-    rolling_resistance:   rolling-resistance coefficient mu_r of grain contacts (dem3d ContactParams.mu_roll;
-                          0.25 [A], calibrated: the deposit's triaxial peak phi is 29.9 / 32.3 / 33.4 deg at
-                          mu_r 0.2 / 0.3 / 0.4 (70 kPa, porosity 0.40), paper ~31; the paper names none; not
-                          applied while raining, so the porosity stays ~0.40)
-    deposition_friction:  friction while the deposit is rained (sets its porosity [A]; 0.5, the grains'
-                          own, gives ~0.40)
-    deposition_damping:   viscous contact damping while raining, fraction of critical (0.5 [A]: the
-                          landing grains' energy is dissipated in their first contacts)
-    damping_ratio:        viscous contact damping, fraction of critical (0.05 [A])
-    softening:            grain moduli / this while raining (a sqrt(.) larger step; 100)
-    wall_youngs:          sheet-pile Young's modulus [Pa] (40 GPa)
-    wall_thickness:       at the paper's resolution [m] (5e-3; two sheets of 2.5 mm balls)
-    wall_mass_per_area:   [kg/m^2] (12: 2400 kg/m^3 x 5 mm)
-    boundary_friction:    friction of the lateral free-field segments and the base (0.5 [A])
-    column_length:        free-field column length along x, in mean grain diameters (10 [A])
-    slice_grains:         free-field slice thickness, in mean grain diameters (2.5 [A])
-    segment_mass_grains:  mass of one free-field segment, in mean grain masses (0.1 [A])
-    free_field_every:     steps between refreshes of the free-field state (20)
-    dt_fraction:          time step / critical step (0.2, dem3d's limit)
-    settle_ratio:         unbalanced-force ratio ending each static stage (1e-2: rattlers keep bouncing at N g)
-    rain_energy:          kinetic energy per grain ending the rain, in m g d_mean (1e-3)
-    settle_energy:        kinetic energy per grain ending a static stage, in m g d_mean, when the
-                          ratio is held up by rattlers (1e-4)
-    static_time:          longest static stage (wall installed, front excavated), model [s] (0.05)
-    record_every:         time between readings of the dynamic stage, prototype [s] (0.02)
-    seed:                 random seed of the deposit
-    """
-
-    frequency: float = 5.0
-    amplitude_g: float = 0.1
-    ramp_s: float = 3.0
-    hold_s: float = 4.0
-    decay_s: float = 1.0
-    end_s: float = 9.0
-    scale_N: float = 50.0
-    resolution: Literal["coarse", "medium", "paper"] = "coarse"
-    grain_scale: float = 0.0
-    retained_height: float = 0.18
-    front_height: float = 0.12
-    wall_length: float = 0.135
-    behind: float = 0.40
-    front: float = 0.14
-    width: float = 0.03
-    d_min: float = 1.5e-3
-    d_max: float = 2.5e-3
-    grain_density: float = 2650.0
-    porosity: float = 0.40
-    shear_modulus: float = 29e9
-    poisson: float = 0.15
-    friction: float = 0.5
-    rolling_resistance: float = 0.25
-    deposition_friction: float = 0.5
-    deposition_damping: float = 0.5
-    damping_ratio: float = 0.05
-    softening: float = 100.0
-    wall_youngs: float = 40e9
-    wall_thickness: float = 5e-3
-    wall_mass_per_area: float = 12.0
-    boundary_friction: float = 0.5
-    column_length: float = 10.0
-    slice_grains: float = 2.5
-    segment_mass_grains: float = 0.1
-    free_field_every: int = 20
-    dt_fraction: float = 0.2
-    settle_ratio: float = 1e-2
-    rain_energy: float = 1e-3
-    settle_energy: float = 1e-4
-    static_time: float = 0.05
-    record_every: float = 0.02
-    seed: int = 1
+    # Size bounds: the coarse default is ~16,000 spheres (13,392 + 2,581 in the free-field
+    # columns) and ~3.8e5 steps of 4.7e-7 s, ~1,400 s of one core at 4.1e6 particle-steps per
+    # CPU-s (docs/validation/seismic.md); the spheres go as the soil volume over the grain
+    # volume, the steps as the model duration over dt (dt ~ the smallest grain's Hertz step).
+    # Each estimate below is that run with one field at its bound.
+    frequency: float = param(5.0, unit="Hz", lo=0, hi=20, lo_open=True, hi_open=True,
+                             meaning="base-motion frequency, prototype (1-6 in the paper)")
+    amplitude_g: float = param(0.1, unit="g", lo=0, hi=0.5, lo_open=True,
+                               meaning="peak base acceleration, prototype (0.1)")
+    # the dynamic stage lasts max(end_s, ramp + hold + decay): 180 s prototype is 20x the 9 s
+    # default, ~8 h of one core at the coarse default
+    ramp_s: float = param(3.0, unit="s", lo=0, hi=60, hi_open=True,
+                          meaning="linear ramp up of the base motion, prototype (3 [A])")
+    hold_s: float = param(4.0, unit="s", lo=0, hi=60, hi_open=True,
+                          meaning="full-amplitude part of the base motion, prototype (4)")
+    decay_s: float = param(1.0, unit="s", lo=0, hi=60, hi_open=True,
+                           meaning="linear ramp down of the base motion, prototype (1 [A])")
+    # 120 s: 13x the default's steps, ~5 h at the coarse default
+    end_s: float = param(9.0, unit="s", lo=0, hi=120, lo_open=True, hi_open=True,
+                         meaning="analysis length from the start of shaking, prototype (9)")
+    # the model duration goes as 1 / N: at N = 1 the 9 s are 50x the default's steps, ~19 h coarse
+    scale_N: float = param(50.0, lo=1, hi=500, hi_open=True, meaning="g-level N of the centrifuge model (50)")
+    resolution: Literal["coarse", "medium", "paper"] = param(
+        "coarse", unit="", meaning="grain-scale preset: coarse 3x the paper's grains, medium 2x, paper 1x")
+    # 0.5: 8x the paper's ~3.6e5 spheres (~2.9e6, a few GB) and 2x its steps: ~3 weeks of one core
+    grain_scale: float = param(0.0, lo=0, hi=8,
+                               meaning="grains and wall balls x this; 0: the resolution's (otherwise at least 0.5)")
+    # the spheres go as retained_height x (front + behind): 1 m is ~5.6x the default's, ~2.5 h coarse
+    # (50 m prototype at 50 g)
+    retained_height: float = param(0.18, unit="m", lo=0, hi=1, lo_open=True,
+                                   meaning="soil height behind the wall (0.18)")
+    front_height: float = param(0.12, unit="m", lo=0, hi=1, lo_open=True, hi_open=True,
+                                meaning="soil height in front after excavation, below retained_height (0.12)")
+    wall_length: float = param(0.135, unit="m", lo=0, hi=1, lo_open=True, hi_open=True,
+                               meaning="sheet-pile length, top flush with the retained surface (0.135)")
+    # 2 m behind or in front: ~4x the default's spheres, ~1.5 h coarse
+    behind: float = param(0.40, unit="m", lo=0, hi=2, lo_open=True,
+                          meaning="lateral boundary distance behind the wall (0.40)")
+    front: float = param(0.14, unit="m", lo=0, hi=2, lo_open=True,
+                         meaning="lateral boundary distance in front of the wall (0.14)")
+    # 0.5 m: ~17x the default's spheres (~2.7e5), ~7 h coarse
+    width: float = param(0.03, unit="m", lo=0, hi=0.5, lo_open=True,
+                         meaning="periodic slab thickness, at least three cells of the largest grain (0.03)")
+    # 5e-4 m: ~2.4x the spheres and ~3x the steps of the default (dt ~ the smallest grain), ~3 h coarse
+    d_min: float = param(1.5e-3, unit="m", lo=5e-4,
+                         meaning="smallest grain diameter at the paper's resolution (1.5e-3)")
+    d_max: float = param(2.5e-3, unit="m", lo=5e-4,
+                         meaning="largest grain diameter at the paper's resolution, at least d_min (2.5e-3)")
+    # dt goes as sqrt(density): 500 kg/m^3 is ~2.3x the default's steps
+    grain_density: float = param(2650.0, unit="kg/m^3", lo=500, hi=20_000, meaning="grain solid density (2650)")
+    porosity: float = param(0.40, lo=0.3, hi=0.5, lo_open=True, hi_open=True,
+                            meaning="target porosity of the deposit (0.40)")
+    # dt goes as 1 / sqrt(G): 1e12 Pa (stiffer than any mineral) is ~6x the default's steps
+    shear_modulus: float = param(29e9, unit="Pa", lo=0, hi=1e12, lo_open=True,
+                                 meaning="grain shear modulus for Hertz-Mindlin (29 GPa [A])")
+    poisson: float = param(0.15, lo=0, hi=0.5, lo_open=True, hi_open=True,
+                           meaning="grain Poisson's ratio for Hertz-Mindlin (0.15 [A])")
+    friction: float = param(0.5, lo=0, hi=2, hi_open=True,
+                            meaning="inter-particle and wall-soil friction coefficient (0.5 [A])")
+    # calibrated: the deposit's triaxial peak phi is 29.9 / 32.3 / 33.4 deg at mu_r 0.2 / 0.3 / 0.4
+    # (70 kPa, porosity 0.40), paper ~31; the paper names none; not applied while raining, so the
+    # porosity stays ~0.40
+    rolling_resistance: float = param(0.25, lo=0, hi=1,
+                                      meaning="rolling-resistance coefficient mu_r of grain contacts (0.25 [A], "
+                                              "calibrated on phi)")
+    deposition_friction: float = param(
+        0.5, lo=0, hi=2, hi_open=True,
+        meaning="friction while the deposit is rained, sets its porosity (0.5 [A]: ~0.40)")
+    # the landing grains' energy is dissipated in their first contacts
+    deposition_damping: float = param(0.5, lo=0, hi=1, hi_open=True,
+                                      meaning="viscous contact damping while raining, fraction of critical (0.5 [A])")
+    damping_ratio: float = param(0.05, lo=0, hi=1, hi_open=True,
+                                 meaning="viscous contact damping, fraction of critical (0.05 [A])")
+    # below 1 the rain would be stiffer than the grains (a smaller step): 1 is ~10x the rain's steps
+    softening: float = param(100.0, lo=1, meaning="grain moduli / this while raining, a sqrt(.) larger step (100)")
+    wall_youngs: float = param(40e9, unit="Pa", lo=0, hi=1e12, lo_open=True,
+                               meaning="sheet-pile Young's modulus (40 GPa)")
+    # the wall balls are s t / 2: below 1 mm they outnumber the grains and shrink dt
+    wall_thickness: float = param(
+        5e-3, unit="m", lo=1e-3,
+        meaning="sheet-pile thickness at the paper's resolution (5e-3: two sheets of 2.5 mm balls)")
+    # the bonds' step goes as sqrt(mass): 1 kg/m^2 is ~1.7x the default's steps
+    wall_mass_per_area: float = param(12.0, unit="kg/m^2", lo=1,
+                                      meaning="sheet-pile mass per area (12: 2400 kg/m^3 x 5 mm)")
+    boundary_friction: float = param(0.5, lo=0, hi=2, hi_open=True,
+                                     meaning="friction of the lateral free-field segments and the base (0.5 [A])")
+    column_length: float = param(10.0, lo=4, hi=100, hi_open=True,
+                                 meaning="free-field column length along x, in mean grain diameters (10 [A])")
+    slice_grains: float = param(2.5, lo=1, hi=20, hi_open=True,
+                                meaning="free-field slice thickness, in mean grain diameters (2.5 [A])")
+    segment_mass_grains: float = param(0.1, lo=0, hi=10, lo_open=True, hi_open=True,
+                                       meaning="mass of one free-field segment, in mean grain masses (0.1 [A])")
+    free_field_every: int = param(20, lo=1, hi=1000, meaning="steps between refreshes of the free-field state (20)")
+    # steps go as 1 / dt_fraction: 0.01 is 20x the default's, ~8 h coarse
+    dt_fraction: float = param(0.2, lo=0.01, hi=0.2, meaning="time step / critical step (0.2, dem3d's limit)")
+    settle_ratio: float = param(
+        1e-2, lo=0, hi=0.1, lo_open=True, hi_open=True,
+        meaning="unbalanced-force ratio ending each static stage (1e-2: rattlers keep bouncing at N g)")
+    rain_energy: float = param(1e-3, lo=0, hi=1, lo_open=True, hi_open=True,
+                               meaning="kinetic energy per grain ending the rain, in m g d_mean (1e-3)")
+    settle_energy: float = param(1e-4, lo=0, hi=1, lo_open=True, hi_open=True,
+                                 meaning="kinetic energy per grain ending a static stage held up by rattlers, in m g "
+                                         "d_mean (1e-4)")
+    # 1 s: 20x the default's static budget
+    static_time: float = param(0.05, unit="s", lo=0, hi=1, lo_open=True, hi_open=True,
+                               meaning="longest static stage (wall installed, front excavated), model (0.05)")
+    # a reading (wall profiles, section forces) every ~40 steps at 1e-3 s, ~10^4 readings
+    record_every: float = param(0.02, unit="s", lo=1e-3, hi=1, hi_open=True,
+                                meaning="time between readings of the dynamic stage, prototype (0.02)")
+    seed: int = seed_param(1, meaning="random seed of the deposit")
 
     def __post_init__(self):
-        require_number("frequency", self.frequency, 0.0, 20.0, unit="Hz (prototype)")
-        require_number("amplitude_g", self.amplitude_g, 0.0, 0.5, hi_open=False, unit="g (prototype)")
-        for name in ("ramp_s", "hold_s", "decay_s"):
-            require_number(name, getattr(self, name), 0.0, 60.0, lo_open=False, unit="s (prototype)")
-        require_number("end_s", self.end_s, 0.0, 120.0, unit="s (prototype)")
-        require_number("scale_N", self.scale_N, 1.0, 500.0, lo_open=False)
-        if self.resolution not in RESOLUTIONS:
-            raise InvalidParameter("resolution", self.resolution, " | ".join(RESOLUTIONS))
-        require_number("grain_scale", self.grain_scale, 0.0, 8.0, lo_open=False, hi_open=False)
+        check_fields(self)
         if 0.0 < self.grain_scale < 0.5:
             raise InvalidParameter("grain_scale", self.grain_scale, "0 (the resolution's) or [0.5, 8]")
-        for name in ("retained_height", "wall_length", "behind", "front", "width", "d_min", "grain_density",
-                     "shear_modulus", "wall_youngs", "wall_thickness", "wall_mass_per_area", "softening"):
-            require_number(name, getattr(self, name), 0.0, None)
-        require_number("d_max", self.d_max, self.d_min, None, lo_open=False, unit="m (>= d_min)")
-        require_number("front_height", self.front_height, 0.0, self.retained_height, unit="m (< retained_height)")
-        require_number("wall_length", self.wall_length, self.retained_height - self.front_height,
-                       self.retained_height, unit="m (between the free height and the retained height)")
-        require_number("porosity", self.porosity, 0.3, 0.5)
-        require_number("poisson", self.poisson, 0.0, 0.5)
-        for name in ("friction", "deposition_friction", "boundary_friction"):
-            require_number(name, getattr(self, name), 0.0, 2.0, lo_open=False)
-        require_number("rolling_resistance", self.rolling_resistance, 0.0, 1.0, lo_open=False, hi_open=False)
-        for name in ("damping_ratio", "deposition_damping"):
-            require_number(name, getattr(self, name), 0.0, 1.0, lo_open=False)
-        for name in ("rain_energy", "settle_energy"):
-            require_number(name, getattr(self, name), 0.0, 1.0, unit="m g d_mean per grain")
-        require_number("column_length", self.column_length, 4.0, 100.0, lo_open=False, unit="grain diameters")
-        require_number("slice_grains", self.slice_grains, 1.0, 20.0, lo_open=False, unit="grain diameters")
-        require_number("segment_mass_grains", self.segment_mass_grains, 0.0, 10.0, unit="grain masses")
-        require_number("free_field_every", self.free_field_every, 1, 1000, lo_open=False, hi_open=False)
-        require_number("dt_fraction", self.dt_fraction, 0.0, 0.2, hi_open=False)
-        require_number("settle_ratio", self.settle_ratio, 0.0, 0.1)
-        require_number("static_time", self.static_time, 0.0, 1.0, unit="s (model)")
-        require_number("record_every", self.record_every, 0.0, 1.0, unit="s (prototype)")
+        if not self.d_max >= self.d_min:
+            raise InvalidParameter("d_max", self.d_max, f">= {self.d_min:g} m", "the largest grain is at least d_min")
+        if not self.front_height < self.retained_height:
+            raise InvalidParameter("front_height", self.front_height, f"(0, {self.retained_height:g}) m",
+                                   "below retained_height")
+        free = self.retained_height - self.front_height
+        if not free < self.wall_length < self.retained_height:
+            raise InvalidParameter("wall_length", self.wall_length, f"({free:g}, {self.retained_height:g}) m",
+                                   "between the free height and the retained height")
         s = self.scale
         if self.width < 3.0 * (s * self.d_max + 0.4 * s * self.d_min):
             raise InvalidParameter("width", self.width, f">= {3 * 1.4 * s * self.d_max:.4g} m",

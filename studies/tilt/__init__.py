@@ -12,45 +12,40 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 
 from analytic.errors import InvalidParameter
-from analytic.inputs import require_number
+from analytic.schema import check_fields, param
 
-from ..options import number, number_list
 from ..study import Command, Option, Study
 
 
 @dataclass(frozen=True)
 class TiltCase:
-    """frictions_deg:   input block-block friction angles to tilt [deg] (S-OET Table 2: 36, 28.5, 35, 25)
-    slender_widths_m:  widths of the slender blocks to topple [m] (height ``slender_height_m``)
-    slender_height_m:  their height [m] (0.30)
-    block_length_m, block_height_m: the sliding block [m] (S-OET: 0.30 x 0.125)
-    dt:                time step [s] (5e-4, as the walls)
-    iterations:        contact-solver sweeps per step (20, as the walls)
-    resolution_deg:    tilt step near the answer [deg] (0.05)
-    """
+    """The slide and topple tests of the block contact (S-OET Table 2 blocks)."""
 
-    frictions_deg: tuple = (36.0, 28.5, 35.0, 25.0)
-    slender_widths_m: tuple = (0.10, 0.125)
-    slender_height_m: float = 0.30
-    block_length_m: float = 0.30
-    block_height_m: float = 0.125
-    dt: float = 5e-4
-    iterations: int = 20
-    resolution_deg: float = 0.05
+    frictions_deg: tuple[float, ...] = param(
+        (36.0, 28.5, 35.0, 25.0), unit="deg", lo=0, hi=80, lo_open=True, hi_open=True,
+        meaning="block-block friction angles to tilt, one slide test each (S-OET Table 2: 36, 28.5, 35, 25)")
+    slender_widths_m: tuple[float, ...] = param(
+        (0.10, 0.125), unit="m", lo=0, hi=5, lo_open=True,
+        meaning="widths of the slender blocks tilted until they topple, each below slender_height_m")
+    slender_height_m: float = param(0.30, unit="m", lo=0, hi=5, lo_open=True, hi_open=True,
+                                    meaning="height of the slender blocks")
+    block_length_m: float = param(0.30, unit="m", lo=0, hi=5, lo_open=True, hi_open=True,
+                                  meaning="length of the sliding block (S-OET: 0.30)")
+    block_height_m: float = param(0.125, unit="m", lo=0, hi=5, lo_open=True, hi_open=True,
+                                  meaning="height of the sliding block (S-OET: 0.125)")
+    # below 1e-5 s a tilt search needs > 10^7 steps: no run would end
+    dt: float = param(5e-4, unit="s", lo=1e-5, hi=2e-3, hi_open=True,
+                      meaning="time step of the block solver, as the walls'")
+    iterations: int = param(20, lo=1, hi=500, meaning="contact-solver sweeps per step, as the walls'")
+    resolution_deg: float = param(0.05, unit="deg", lo=0, hi=1, lo_open=True, hi_open=True,
+                                  meaning="tilt increment near the slide or topple angle")
 
     def __post_init__(self):
-        for f in self.frictions_deg:
-            require_number("frictions_deg", f, 0.0, 80.0, unit="deg")
+        check_fields(self)
         for w in self.slender_widths_m:
-            require_number("slender_widths_m", w, 0.0, self.slender_height_m, unit="m")
-        require_number("slender_height_m", self.slender_height_m, 0.0, 5.0, unit="m")
-        require_number("block_length_m", self.block_length_m, 0.0, 5.0, unit="m")
-        require_number("block_height_m", self.block_height_m, 0.0, 5.0, unit="m")
-        # below 1e-5 s a tilt search needs > 10^7 steps: no run would end
-        require_number("dt", self.dt, 1e-5, 2e-3, lo_open=False, unit="s")
-        if not (isinstance(self.iterations, int) and 1 <= self.iterations <= 500):
-            raise InvalidParameter("iterations", self.iterations, "an integer in [1, 500]")
-        require_number("resolution_deg", self.resolution_deg, 0.0, 1.0, unit="deg")
+            if not w < self.slender_height_m:
+                raise InvalidParameter("slender_widths_m", w, f"(0, {self.slender_height_m:g}) m",
+                                       "a block must be slender: width below slender_height_m")
 
 
 def tilt_tests(case: TiltCase) -> dict:
@@ -114,9 +109,8 @@ CALIBRATE = Command(
                 "slender blocks tilted until they tip over at atan(b/h). Checks the pair friction set per contact "
                 "(pymunk multiplies shape frictions). Example: wallsim calibrate tilt --friction 36,28.5",
     default_case=TiltCase, run=_calibrate, text=_text, seed_key=None,
-    options=(Option("--friction", "friction angles to test [deg] (36,28.5,35,25)", key="frictions_deg",
-                    parse=number_list("friction", lo=0.0, hi=80.0, unit="deg")),
-             Option("--dt", "time step [s] (5e-4)", key="dt", parse=number("dt", 1e-5, 2e-3, lo_open=False, unit="s"))))
+    options=(Option("--friction", "friction angles to test [deg] (36,28.5,35,25)", key="frictions_deg"),
+             Option("--dt", "time step [s] (5e-4)", key="dt")))
 
 STUDY = Study(name="tilt", title="Tilt tests of the rigid dry-stone blocks (slide and toppling angles)",
               commands=(CALIBRATE,))

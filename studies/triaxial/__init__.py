@@ -7,7 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import count, kpa_to_pa, number
+from analytic.inputs import MAX_PRESSURE_KPA
+
+from ..options import kpa_to_pa, number
 from ..study import Command, Option, Study
 
 
@@ -38,9 +40,9 @@ CALIBRATE = Command(
                 "peak and critical-state phi, written to a calibration card that `compare nadukuru` uses for "
                 "its theories.",
     default_case=_default_case, run=_calibrate, text=_text, busy_note=True,
-    options=(Option("--particles", "spheres (8200, the paper's)", key="specimen.particles", parse=count("particles")),
+    options=(Option("--particles", "spheres (8200, the paper's)", key="specimen.particles"),
              Option("--confining", "confining stress [kPa] (200)", key="setup.confining",
-                    parse=number("confining", 0, None, unit="kPa"), to_case=kpa_to_pa)))
+                    parse=number("confining", 0, MAX_PRESSURE_KPA, hi_open=False, unit="kPa"), to_case=kpa_to_pa)))
 
 STUDY = Study(name="triaxial", title="Triaxial test of the Nadukuru backfill (phi for the theories)",
               commands=(CALIBRATE,))

@@ -25,10 +25,12 @@ import numpy as np
 import dem3d
 import reproducibility
 
-from analytic.inputs import require_number
+from analytic.errors import InvalidParameter
+from analytic.inputs import MAX_PRESSURE_KPA
+from analytic.schema import check_fields, param, seed_param
 
 from ..store import atomic_write, content_key
-from ..nadukuru.model import SpecimenRecipe, _CLUMP_VOLUME_FACTOR, _contact
+from ..nadukuru.model import MOST_PARTICLE_STEPS, SpecimenRecipe, _CLUMP_VOLUME_FACTOR, _contact
 
 
 @dataclass
@@ -43,25 +45,31 @@ class ServoVelocity:
 
 @dataclass(frozen=True)
 class TriaxialSetup:
-    """confining [Pa], axial strain rate [1/s], final axial strain, servo speed limit during
-    compaction [m/s] (the lateral platens may move at up to 4x the axial platen while shearing).
+    """The cubical triaxial cell: confining stress, compaction, shearing and the servo."""
 
-    compaction_friction: particle friction while the platens compact the cloud to the
-    confining stress (None: the recipe's deposition friction). 0 gives the densest packing,
-    the nearest to the rained fill's porosity (~0.35; the paper does not state its triaxial
-    specimen's porosity). At 8,200 spheres, 0.1 left porosity 0.387 and peak phi 29.5 deg."""
-
-    confining: float = 200e3
-    compaction_friction: float | None = 0.0
-    strain_rate: float = 0.04
-    max_strain: float = 0.10
-    servo_speed: float = 0.5
-    chunk: int = 20
+    # 10 MPa (analytic.inputs.MAX_PRESSURE_KPA: no wall's soil sees more); there a 6 cm grain
+    # overlaps its neighbours by ~7 % of its diameter at the paper's kn
+    confining: float = param(200e3, unit="Pa", lo=0, hi=MAX_PRESSURE_KPA * 1e3, lo_open=True,
+                             meaning="confining stress sigma_3 (paper 200 kPa)")
+    # 0 gives the densest packing, the nearest to the rained fill's porosity (~0.35; the
+    # paper does not state its triaxial specimen's porosity); at 8,200 spheres 0.1 left
+    # porosity 0.387 and peak phi 29.5 deg
+    compaction_friction: float | None = param(
+        0.0, lo=0, meaning="particle friction while the platens compact the cloud to the confining stress (none: "
+                           "the recipe's deposition friction)")
+    # the test's length (TriaxialCase, MOST_PARTICLE_STEPS) bounds a slow shear
+    strain_rate: float = param(0.04, unit="1/s", lo=0, hi=1.0, lo_open=True, hi_open=True,
+                               meaning="axial strain rate of the top platen while shearing (0.04)")
+    max_strain: float = param(0.10, lo=0, hi=0.5, lo_open=True, hi_open=True,
+                              meaning="axial strain at which shearing ends (0.10)")
+    servo_speed: float = param(0.5, unit="m/s", lo=0, lo_open=True,
+                               meaning="speed limit of the servo-driven platens while compacting (the lateral "
+                                       "ones may move at up to 4x the axial platen while shearing)")
+    # the compaction runs 400,000 // chunk chunks and the re-balance 2000 // chunk
+    chunk: int = param(20, lo=1, hi=2000, meaning="time steps between two servo updates of the platen speeds (20)")
 
     def __post_init__(self):
-        require_number("confining", self.confining, 0, None, unit="Pa")
-        require_number("strain_rate", self.strain_rate, 0, 1.0, unit="1/s")
-        require_number("max_strain", self.max_strain, 0, 0.5)
+        check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -72,7 +80,24 @@ class TriaxialCase:
 
     specimen: SpecimenRecipe = field(default_factory=lambda: SpecimenRecipe(particles=8200))
     setup: TriaxialSetup = field(default_factory=TriaxialSetup)
-    seed: int = 1
+    seed: int = seed_param(1)
+
+    def __post_init__(self):
+        check_fields(self)
+        steps, dt = self.most_steps()
+        work = self.specimen.particles * steps
+        if work > MOST_PARTICLE_STEPS:
+            raise InvalidParameter("particles x time steps", work, f"<= {MOST_PARTICLE_STEPS:g}",
+                                   f"up to {steps:.3g} steps of {dt:.3g} s, ~{work / 4e6 / 86400:.3g} days on 2 "
+                                   "cores")
+
+    def most_steps(self) -> tuple[float, float]:
+        """(time steps of the test at most, the time step [s]): the compaction at its cap
+        (400,000), the re-balance (2000) and the shear (``run_triaxial``)."""
+        rec, setup = self.specimen, self.setup
+        m_min = rec.density * math.pi / 6.0 * rec.d_min**3
+        dt = rec.dt or 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
+        return 400_000 + 2000 + setup.max_strain / setup.strain_rate / dt, dt
 
 
 @dataclass

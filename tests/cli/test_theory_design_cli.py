@@ -109,7 +109,7 @@ def test_bad_design_input_one_line_exit_2(capsys, args, name):
     assert code == 2, err
     lines = err.strip().splitlines()
     assert len(lines) == 1
-    assert f"{name} = " in lines[0] and "valid range" in lines[0]
+    assert f"{name} = " in lines[0] and ("valid range" in lines[0] or "not valid; expected" in lines[0])
     assert out == ""
 
 
