@@ -10,10 +10,14 @@ from pathlib import Path
 import numpy as np
 
 from ..runner import Stopwatch, finish, open_run_folder
+from ..store import atomic_write, load_npz, npz_bytes
 from .case import SeismicCase
 from .measures import (STRAIN_CELL_GRAINS, STRAIN_MIN_GRAINS, STRAIN_TIMES, mononobe_okabe_overlay, period_mean,
                        rotation_fit, row_moments, settlement, shear_strain_map, unit_weight)
-from .run import Prepared, Shaken, prepare, shake
+from .run import Prepared, Shaken, checkpoint_samples, prepare, shake
+
+#: the shaking's checkpoint in the run folder (dropped once the run has its result)
+CHECKPOINT = "checkpoints/shake.npz"
 
 
 def wall_summary(case: SeismicCase, x0: np.ndarray, reading, base: float = 0.0) -> dict:
@@ -150,13 +154,30 @@ def strain_table(case: SeismicCase, maps) -> dict[str, np.ndarray]:
 
 def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log=lambda s: None,
                     record: bool = False, rrd=None, progress=None,
-                    strain_times: tuple = STRAIN_TIMES) -> tuple[dict, Path]:
+                    strain_times: tuple = STRAIN_TIMES, resume: Path | None = None,
+                    checkpoint_every_s: float | None = None) -> tuple[dict, Path]:
     """One frequency: prepare (cached under root/seismic/cache) and shake; writes the run
     folder (and recording.rrd with ``record``); the shear-strain field at ``strain_times``
-    (prototype [s]; the paper's Fig. 7 times by default)."""
+    (prototype [s]; the paper's Fig. 7 times by default).
+
+    The shaking is checkpointed to <run folder>/checkpoints/shake.npz (every
+    ``checkpoint_every_s`` of wall time, default ``run.CHECKPOINT_EVERY_S``, and every
+    10 % of the motion); with ``resume`` (an interrupted run's folder, ``case`` its
+    config) the run continues from its checkpoint (from the start of shaking when it
+    has none) and ends as the uninterrupted run would, bit for bit; its recording (the
+    part after the resume) goes to recording-resumed.rrd unless ``rrd`` names a file."""
     clock = Stopwatch()
-    folder = open_run_folder("seismic", case, root)
-    path = (Path(rrd) if isinstance(rrd, str) else folder.path / "recording.rrd") if record else None
+    folder = open_run_folder("seismic", case, root, resume=resume)
+    default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
+    path = (Path(rrd) if isinstance(rrd, (str, Path)) else folder.path / default_rrd) if record else None
+    saved = folder.path / CHECKPOINT
+    state = load_npz(saved) if resume is not None and saved.is_file() else None
+    if state is not None:
+        log(f"resuming the shaking after {checkpoint_samples(state)} readings")
+
+    def save(arrays: dict) -> None:
+        atomic_write(folder.file(CHECKPOINT), npz_bytes(arrays))
+
     with clock("prepare"):
         prepared = prepare(case, Path(root) / "seismic" / "cache", log=log)
     x0 = np.array(prepared.info["x_wall_before_excavation"])
@@ -164,9 +185,12 @@ def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log
     x0_rows = np.bincount(rows, weights=x0[:, 0]) / np.bincount(rows)
     porosity = float(prepared.info["porosity"])
     rec = _Recording(case, path, folder, x0_rows, prepared.model, porosity, progress)
+    if state is not None:
+        rec.count = checkpoint_samples(state)          # frames every 10th reading, as in one run
     try:
         with clock("shake"):
-            shaken = shake(case, prepared, fraction=fraction, on_sample=rec.on_sample, snapshot_times=strain_times)
+            shaken = shake(case, prepared, fraction=fraction, on_sample=rec.on_sample, snapshot_times=strain_times,
+                           checkpoint=save, resume=state, checkpoint_every_s=checkpoint_every_s)
         with clock("strain"):
             maps = strain_maps(case, prepared, shaken)
         rec.finish(maps)
@@ -181,9 +205,18 @@ def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log
     _figures(folder, case, shaken, series, porosity, settlement_table(case, prepared, shaken), maps,
              result["max_shear_strain"]["skipped_s"])
     result |= {"wall_time_s": clock.total, "stage_seconds": clock.seconds, "run_folder": str(folder.path)}
+    _drop_checkpoints(folder.path)                     # finished: nothing to resume
     finish(folder, result, particles=result["particles"], seed=case.seed, dt_s=result["dt_s"],
            steps=shaken.steps, wall_time_s=clock.total)
     return result, folder.path
+
+
+def _drop_checkpoints(run: Path) -> None:
+    """Remove the shaking's checkpoint and its folder once the run has its result."""
+    (run / CHECKPOINT).unlink(missing_ok=True)
+    folder = (run / CHECKPOINT).parent
+    if folder.is_dir() and not any(folder.iterdir()):
+        folder.rmdir()
 
 
 class _Recording:

@@ -3,7 +3,11 @@
 ``prepare`` -> the static state (deposit, wall, excavation, settled under N g) and the
 two free-field columns, cached in a ``Store`` under a content key of every case field
 that shapes them (all frequencies start from the same state);
-``shake`` -> the dynamic stage, sampled every ``record_every`` prototype seconds.
+``shake`` -> the dynamic stage, sampled every ``record_every`` prototype seconds;
+resumable: ``checkpoint(state)`` is handed everything the loop needs to go on (the
+engines of the main model and of both columns, the free-field segments' velocities, the
+readings and snapshots so far) and ``shake(..., resume=state)`` continues from it bit
+for bit (issue 38).
 """
 
 from __future__ import annotations
@@ -16,13 +20,14 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
+from analytic.errors import InvalidParameter
 from dem3d import Periodic, Simulation, Specimen, Wall, plane, settle
 from dem3d.freefield import FreeFieldBoundary, column_free_field, step_coupled
 
 from ..store import Store, content_key
 from . import model as M
 from .case import SeismicCase
-from .measures import wall_reading
+from .measures import WallReading, wall_reading
 
 #: case fields that do not shape the static state (the dynamic stage and its sampling)
 DYNAMIC_FIELDS = ("frequency", "amplitude_g", "ramp_s", "hold_s", "decay_s", "end_s", "record_every",
@@ -32,6 +37,12 @@ DYNAMIC_FIELDS = ("frequency", "amplitude_g", "ramp_s", "hold_s", "decay_s", "en
 SKELETON_POISSON = 0.25
 #: low-strain shear-wave speed of the deposit [m/s] (paper's Table 1; same in model and prototype) [F]
 VS = 210.0
+
+#: a checkpoint of the shaking is handed over every this many seconds of wall time ...
+CHECKPOINT_EVERY_S = 300.0
+#: ... and each time another this fraction of the motion is done (a short run
+#: interrupted before 300 s would otherwise start its shaking over); only between readings
+CHECKPOINT_EVERY_FRACTION = 0.1
 
 
 def static_key(case: SeismicCase) -> str:
@@ -186,40 +197,188 @@ class Snapshot(NamedTuple):
     positions: np.ndarray
 
 
-def coupled(case: SeismicCase, prepared: Prepared):
+def coupled(case: SeismicCase, prepared: Prepared, state: dict | None = None):
     """(main, columns, boundaries, table): the static state restored with the base
     shaken from now on (model time), the columns on the same motion, and the two
-    free-field boundaries (L front, R behind) tied to them."""
-    t0 = float(prepared.main["time"])
+    free-field boundaries (L front, R behind) tied to them. With ``state`` (a checkpoint
+    of ``shake``) the main model, the columns and the segments are those of the
+    checkpoint, on the motions that started when the shaking did."""
+    if state is None:
+        main_arrays, col_arrays = prepared.main, prepared.columns
+    else:
+        main_arrays = _prefixed(state, "main/")
+        col_arrays = tuple(_prefixed(state, f"col{c}/") for c in range(len(prepared.columns)))
+    # the motions start at each engine's clock when the shaking began
+    t0 = float(prepared.main["time"]) if state is None else float(state["shake/t0"])
     motion, table = M.base_motion(case, t0)
-    main = Simulation.from_arrays(prepared.main, walls=M.boundary_walls(case, motion))
+    main = Simulation.from_arrays(main_arrays, walls=M.boundary_walls(case, motion))
     law = M.contact_law(case, local_damping=0.0)
-    main.set_params(law, allow_unsafe_dt=True)          # the bonds' step is checked in time_step
+    if state is None:
+        main.set_params(law, allow_unsafe_dt=True)          # the bonds' step is checked in time_step
     columns = []
-    for arrays in prepared.columns:
-        tc = float(arrays["time"])
+    for c, arrays in enumerate(col_arrays):
+        tc = float(arrays["time"]) if state is None else float(state["shake/col_t0"][c])
         m_c, _ = M.base_motion(case, tc)
         col = Simulation.from_arrays(arrays, walls=_column_walls(case, m_c))
-        col.set_params(law, allow_unsafe_dt=True)
-        col.dt = main.dt
+        if state is None:
+            col.set_params(law, allow_unsafe_dt=True)
+            col.dt = main.dt
         columns.append(col)
     rho = case.grain_density * (1.0 - float(prepared.info["porosity"]))
     cp = VS * math.sqrt(2.0 * (1.0 - SKELETON_POISSON) / (1.0 - 2.0 * SKELETON_POISSON))
     mass = case.segment_mass_grains * M.grain_mass(case)
     bnds = [FreeFieldBoundary(main, [w for w in main.walls.names if w[0] == side and w[1:].isdigit()], rho=rho,
                               cp=cp, cs=VS, segment_mass=mass) for side in ("L", "R")]
+    if state is not None:
+        for k, b in enumerate(bnds):
+            _restore_boundary(b, _prefixed(state, f"bnd{k}/"))
     return main, columns, bnds, table
 
 
+def _prefixed(arrays: dict, prefix: str) -> dict:
+    return {k[len(prefix):]: v for k, v in arrays.items() if k.startswith(prefix)}
+
+
+#: what a free-field boundary holds besides its main model: the segments' velocity over
+#: the current half step (evolves), and what it fixed when it was made (the segments'
+#: frame and area from the panels then, impedance, mass), kept so a resumed boundary
+#: does not take them from panels that have moved since
+_BOUNDARY_FIELDS = ("velocity", "frame", "area", "impedance", "mass")
+
+
+def _boundary_arrays(b: FreeFieldBoundary) -> dict:
+    return {f: np.array(getattr(b, f), copy=True) for f in _BOUNDARY_FIELDS}
+
+
+def _restore_boundary(b: FreeFieldBoundary, arrays: dict) -> None:
+    """The segments as the checkpoint left them: velocity (and the driven motions that
+    carry it into the next step), frame and area as made at the start of the shaking."""
+    if arrays["velocity"].shape != b.velocity.shape:
+        raise InvalidParameter("checkpoint", f"{arrays['velocity'].shape[0]} free-field segments",
+                               f"{b.velocity.shape[0]} (the case's)")
+    b.velocity = np.array(arrays["velocity"], float, copy=True)
+    b.frame = np.array(arrays["frame"], float, copy=True)
+    b.area = np.array(arrays["area"], float, copy=True)
+    b.impedance = np.array(arrays["impedance"], float, copy=True)
+    b.mass = float(arrays["mass"])
+    for s, m in enumerate(b.motions):
+        m.velocity.value = b.velocity[s].copy()
+
+
+def checkpoint_key(case: SeismicCase, fraction: float, snapshot_times) -> str:
+    """What a checkpoint of ``shake`` belongs to: the case, the fraction of the motion and
+    the snapshot times (a resume with any other would not continue the same run)."""
+    return content_key({"case": dataclasses.asdict(case), "fraction": float(fraction),
+                        "snapshots": sorted(float(t) for t in snapshot_times), "v": 1})
+
+
+def checkpoint_samples(state: dict) -> int:
+    """Readings a checkpoint holds after the one at the start of shaking."""
+    return int(len(state["shake/times"])) - 1
+
+
+#: WallReading fields that are one number per reading (the others are arrays)
+_READING_SCALARS = ("thrust_front", "thrust_back")
+
+
+def _readings_arrays(readings: list) -> dict:
+    return {f"reading/{f}": np.array([getattr(r, f) for r in readings]) for f in WallReading._fields}
+
+
+def _readings_from(state: dict) -> list:
+    cols = {f: state[f"reading/{f}"] for f in WallReading._fields}
+    return [WallReading(**{f: (float(cols[f][k]) if f in _READING_SCALARS else np.array(cols[f][k], copy=True))
+                           for f in WallReading._fields}) for k in range(len(cols["z"]))]
+
+
+def _snapshots_arrays(snaps: list, n: int) -> dict:
+    return {"snap/asked_s": np.array([s.asked_s for s in snaps], float),
+            "snap/time_s": np.array([s.time_s for s in snaps], float),
+            "snap/step": np.array([s.step for s in snaps], np.int64),
+            "snap/positions": (np.stack([s.positions for s in snaps]) if snaps else np.zeros((0, n, 3)))}
+
+
+def _snapshots_from(state: dict) -> list:
+    return [Snapshot(float(a), float(t), int(st), np.array(x, copy=True))
+            for a, t, st, x in zip(state["snap/asked_s"], state["snap/time_s"], state["snap/step"],
+                                   state["snap/positions"])]
+
+
+@dataclasses.dataclass
+class _Progress:
+    """Where the shaking is: the engines' clocks when it began, the readings so far,
+    the snapshot times still to take, the steps done and the wall time of earlier
+    sessions [s] (a resumed run's)."""
+
+    t0: float
+    col_t0: list
+    times: list
+    base: list
+    readings: list
+    pending: list
+    snaps: list
+    done: int = 0
+    before: float = 0.0
+
+    @classmethod
+    def fresh(cls, main, columns, case: SeismicCase, prepared: Prepared, snapshot_times) -> "_Progress":
+        t0, col_t0 = main.time, [c.time for c in columns]
+        main.evaluate_forces()
+        return cls(t0, col_t0, [0.0], [0.0], [wall_reading(main, case, prepared.model)], sorted(snapshot_times), [])
+
+    @classmethod
+    def resumed(cls, state: dict, total: int, every: int) -> "_Progress":
+        if int(state["shake/total"]) != total or int(state["shake/every"]) != every:
+            raise InvalidParameter("resume", f"{int(state['shake/total'])} steps",
+                                   f"{total} steps (the same motion and time step)")
+        return cls(float(state["shake/t0"]), [float(t) for t in state["shake/col_t0"]],
+                   [float(t) for t in state["shake/times"]], [float(b) for b in state["shake/base"]],
+                   _readings_from(state), [float(t) for t in state["shake/pending"]], _snapshots_from(state),
+                   int(state["shake/done"]), float(state["shake/seconds"]))
+
+    def arrays(self, key: str, total: int, every: int, seconds: float, n_spheres: int) -> dict:
+        return {"shake/key": np.array(key), "shake/t0": np.array(self.t0),
+                "shake/col_t0": np.array(self.col_t0, float), "shake/total": np.array(total),
+                "shake/every": np.array(every), "shake/done": np.array(self.done),
+                "shake/times": np.array(self.times, float), "shake/base": np.array(self.base, float),
+                "shake/pending": np.array(self.pending, float), "shake/seconds": np.array(self.before + seconds)} \
+            | _readings_arrays(self.readings) | _snapshots_arrays(self.snaps, n_spheres)
+
+
+def _engine_arrays(main, columns, bnds) -> dict:
+    out = {f"main/{k}": v for k, v in main.to_arrays().items()}
+    for c, col in enumerate(columns):
+        out |= {f"col{c}/{k}": v for k, v in col.to_arrays().items()}
+    for k, b in enumerate(bnds):
+        out |= {f"bnd{k}/{f}": v for f, v in _boundary_arrays(b).items()}
+    return out
+
+
 def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
-          on_sample: Callable | None = None, snapshot_times: tuple = ()) -> Shaken:
+          on_sample: Callable | None = None, snapshot_times: tuple = (),
+          checkpoint: Callable[[dict], None] | None = None, resume: dict | None = None,
+          checkpoint_every_s: float | None = None, checkpoint_every_fraction: float | None = None) -> Shaken:
     """The dynamic stage over ``fraction`` of ``case.duration`` (a timing run uses a few
     per cent), a reading every ``record_every`` prototype seconds; the sphere positions
     kept at the readings nearest ``snapshot_times`` (prototype [s]; only those, so
-    memory stays small; times the run does not reach are left out)."""
+    memory stays small; times the run does not reach are left out).
+
+    ``checkpoint(state)`` is called between readings every ``checkpoint_every_s`` of
+    wall time (``CHECKPOINT_EVERY_S``) and each time another ``checkpoint_every_fraction``
+    of the motion is done (``CHECKPOINT_EVERY_FRACTION``), after ``on_sample`` has taken
+    the reading, never after the last one; ``state`` is a dict of numpy arrays (save it
+    with ``studies.store.npz_bytes``). ``resume=state`` (as saved, or loaded back)
+    continues that run: the result is the uninterrupted run's bit for bit, its
+    ``seconds`` the wall time of both parts."""
     wall_clock = time.perf_counter()
-    main, columns, bnds, table = coupled(case, prepared)
-    t0 = main.time
+    every_s = CHECKPOINT_EVERY_S if checkpoint_every_s is None else float(checkpoint_every_s)
+    every_fraction = (CHECKPOINT_EVERY_FRACTION if checkpoint_every_fraction is None
+                      else float(checkpoint_every_fraction))
+    key = checkpoint_key(case, fraction, snapshot_times)
+    if resume is not None and str(resume.get("shake/key", "")) != key:
+        raise InvalidParameter("resume", "a checkpoint of another run", "a checkpoint of this case, fraction and "
+                               "snapshot times", "a resumed run keeps the settings it started with")
+    main, columns, bnds, table = coupled(case, prepared, resume)
     edges = [M.lateral_edges(case, case.front_height), M.lateral_edges(case, case.retained_height)]
     area = case.column_length * case.d_mean * case.width
 
@@ -228,21 +387,30 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
 
     total = int(round(fraction * case.duration / main.dt))
     every = max(1, int(round(case.to_model_time(case.record_every) / main.dt)))
-    main.evaluate_forces()
-    times, base, readings = [0.0], [0.0], [wall_reading(main, case, prepared.model)]
-    pending, snaps = sorted(snapshot_times), []
-    done = 0
-    while done < total:
-        k = min(every, total - done)
+    run = (_Progress.fresh(main, columns, case, prepared, snapshot_times) if resume is None
+           else _Progress.resumed(resume, total, every))
+    last_checkpoint = time.perf_counter()
+    step_of_marks = max(1, int(every_fraction * total))
+    next_mark = (run.done // step_of_marks + 1) * step_of_marks
+    while run.done < total:
+        k = min(every, total - run.done)
         step_coupled(main, bnds, k, free_field=free_field, columns=columns, every=case.free_field_every)
-        done += k
-        times.append(main.time - t0)
-        base.append(table.displacement(main.time)[0])
-        readings.append(wall_reading(main, case, prepared.model))
-        t_proto = case.to_prototype_time(times[-1])
-        while pending and t_proto >= pending[0] - 0.5 * case.record_every:
-            snaps.append(Snapshot(pending.pop(0), t_proto, int(main.step_count), _specimen(main, main.spheres.x)))
+        run.done += k
+        run.times.append(main.time - run.t0)
+        run.base.append(table.displacement(main.time)[0])
+        run.readings.append(wall_reading(main, case, prepared.model))
+        t_proto = case.to_prototype_time(run.times[-1])
+        while run.pending and t_proto >= run.pending[0] - 0.5 * case.record_every:
+            run.snaps.append(Snapshot(run.pending.pop(0), t_proto, int(main.step_count),
+                                      _specimen(main, main.spheres.x)))
         if on_sample is not None:
-            on_sample(main, readings[-1], times[-1], base[-1], done, total)
-    return Shaken(np.array(times), np.array(base), readings, main.to_arrays(), done,
-                  time.perf_counter() - wall_clock, tuple(snaps))
+            on_sample(main, run.readings[-1], run.times[-1], run.base[-1], run.done, total)
+        # after the consumer has taken this reading, so a checkpoint holds it too
+        if checkpoint is not None and run.done < total and (time.perf_counter() - last_checkpoint > every_s
+                                                            or run.done >= next_mark):
+            next_mark = (run.done // step_of_marks + 1) * step_of_marks
+            checkpoint(_engine_arrays(main, columns, bnds)
+                       | run.arrays(key, total, every, time.perf_counter() - wall_clock, main.n_spheres))
+            last_checkpoint = time.perf_counter()
+    return Shaken(np.array(run.times), np.array(run.base), run.readings, main.to_arrays(), run.done,
+                  run.before + time.perf_counter() - wall_clock, tuple(run.snaps))
