@@ -455,6 +455,7 @@ def _cmd_study(cmd, args) -> int:
     opts = cmd.run_options(**{o.dest: getattr(args, o.dest) for o in cmd.options if o.key is None},
                            out=args.out, quiet=args.quiet)
     _check_run_options(opts)
+    cmd.check_fits(case)
     if cmd.busy_note:
         _note_if_busy()
     with cmd.envelope(case, _setting_sources(cmd, args)):
@@ -801,7 +802,8 @@ def _watch_interrupts() -> list:
 
 def _interrupted(argv, folder=None) -> int:
     from studies.runner import interrupted_line
-    sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv), folder)}\n")
+    words = list(sys.argv[1:] if argv is None else argv)
+    sys.stderr.write(f"wallsim: {interrupted_line(_resume_command(argv), folder, reruns=words[:1] == ['validate'])}\n")
     return EXIT_INTERRUPTED
 
 

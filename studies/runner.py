@@ -60,6 +60,27 @@ _SETUP_FILES = {"config.toml", "run_options.json"}
 _envelope: ContextVar[Envelope | None] = ContextVar("wallsim_envelope", default=None)
 
 
+def machine_memory() -> float | None:
+    """This machine's memory [bytes] (Linux /proc/meminfo MemTotal; None elsewhere)."""
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemTotal:"):
+                    return float(line.split()[1]) * 1024.0
+    except OSError:
+        pass
+    return None
+
+
+#: memory of a dem3d run besides its spheres: Python, numpy, numba's compiled kernels [bytes]
+BASE_MEMORY = 0.5e9
+#: dem3d memory a sphere: engine arrays, double-buffered neighbour pairs, a checkpoint copy
+#: (~4 KB, studies/nadukuru/model.py)
+MEMORY_PER_SPHERE = 4096.0
+#: pymunk memory a packed disk (measured: 200k disks, 0.84 GB; studies/khosravi/case.py)
+MEMORY_PER_DISK = 4200.0
+
+
 class RunInterrupted(KeyboardInterrupt):
     """Ctrl-C inside a command, carrying the folder its finished files are in (or None)."""
 
@@ -205,14 +226,18 @@ def finished_result(run_dir: str | Path) -> dict | None:
     return json.loads(p.read_text()) if p.is_file() else None
 
 
-def interrupted_line(resume_command: str | None, folder: Path | None) -> str:
+def interrupted_line(resume_command: str | None, folder: Path | None, *, reruns: bool = False) -> str:
     """One line for an interrupted run: where its finished files are (only a folder
-    that exists) and, when the command can resume, how."""
+    that exists) and, when the command can resume, how (``reruns``: the same command
+    again reuses the runs that finished, as a validate does)."""
     stamp = time.strftime("%H:%M:%S")
     if folder is None or not folder.is_dir():
         return f"interrupted at {stamp}; nothing was written"
     if resume_command:
         return f"interrupted at {stamp}; resume with: {resume_command} --resume {folder}"
+    if reruns:
+        return (f"interrupted at {stamp}; the same command again reuses the runs that finished (under "
+                f"{folder.parent}) and continues")
     return f"interrupted at {stamp}; what finished is in {folder} (this command does not resume)"
 
 

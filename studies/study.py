@@ -72,6 +72,8 @@ class Command:
                   seeds, ``studies/seeds.py``)
     scale_note:   (case, result) -> one line for a run coarser than the paper's (what
                   it gave against the paper-scale validation), or None
+    footprint:    case -> (the key that sets the size, its value, the memory the run
+                  needs [bytes]): checked against this machine before anything runs
     """
 
     verb: str
@@ -86,6 +88,7 @@ class Command:
     busy_note: bool = False
     figures: Callable[[dict], list[dict]] | None = None
     scale_note: Callable[[Any, dict], str | None] | None = None
+    footprint: Callable[[Any], tuple[str, Any, float]] | None = None
 
     def resolve(self, *, config: str | None = None, flags: dict[str, Any] | None = None,
                 sets: list[str] | None = None, resume: str | None = None, study: str | None = None,
@@ -106,6 +109,18 @@ class Command:
         from .runner import command_envelope
         note = (lambda result: self.scale_note(case, result)) if self.scale_note else None
         return command_envelope(sources, note)
+
+    def check_fits(self, case) -> None:
+        """Refuse, in one line naming the size key and the estimate, a case whose memory
+        estimate exceeds what this machine has (before anything is allocated)."""
+        if self.footprint is None:
+            return
+        from .runner import machine_memory
+        key, value, need = self.footprint(case)
+        have = machine_memory()
+        if have is not None and need > have:
+            raise InvalidParameter(key, value, "a size this machine can hold",
+                                   f"needs ~{need / 1e9:.3g} GB; this machine has {have / 1e9:.3g} GB")
 
     def run_options(self, **given) -> SimpleNamespace:
         """Every run option at its default, with ``given`` on top (unknown names refused)."""
@@ -183,6 +198,7 @@ class Study:
                                        "a resumed run keeps its settings; pass case=None")
             case = started
         case = case if case is not None else cmd.default_case()
+        cmd.check_fits(case)
         with cmd.envelope(case):
             result, _ = cmd.run(case, cmd.run_options(**options))
         return result

@@ -17,6 +17,11 @@ from ..runner import closing_line
 from ..study import Command, Option, Study
 
 
+def _footprint(case):
+    from ..runner import BASE_MEMORY, MEMORY_PER_DISK
+    return "particles_scale", case.particles_scale, BASE_MEMORY + MEMORY_PER_DISK * case.estimated_disks()
+
+
 def _default_case():
     from .case import KhosraviCase
     return KhosraviCase()
@@ -93,6 +98,7 @@ COMPARE = Command(
     description="2D disks (pymunk) in a 220 x 400 mm box, rough wall of 40 pressure cells. "
                 "Example: wallsim compare khosravi --H 0.3 --particles-scale 2 --rrd",
     default_case=_default_case, run=_compare, text=_compare_text, scale_note=lambda case, result: scale_note(case, result),
+    footprint=_footprint,
     options=(_H, _SCALE,
              Option("--rrd", "write a recording (disks, walls, force chains): recording.rrd in the run folder, "
                              "or FILE (off by default)", metavar="FILE", parse=output_file("rrd", (".rrd",)),
@@ -106,6 +112,7 @@ VALIDATE = Command(
                 "and translation to 0.01 at 80 sweeps ~38 min, a biaxial test for phi ~10 min when no card has "
                 "one; docs/validation/khosravi.md).",
     default_case=_validation_case, run=_validate, text=_validate_text, figures=_validate_figures,
+    footprint=_footprint,
     options=(Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs")),
              Option("--rrd", "also keep recording.rrd in the run folder", switch=True)))

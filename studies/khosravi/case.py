@@ -137,11 +137,15 @@ class KhosraviCase:
         if self.particles_scale > most:
             raise InvalidParameter("particles_scale", self.particles_scale, f"[0.25, {most:.3g}]",
                                    f"grains of {MIN_GRAINS_ACROSS} x d50 x scale must fit across H and the box")
-        disks = self.box_width * self.H * 0.85 / self.grading.mean_area()     # as build_box expects
+        disks = self.estimated_disks()
         if disks > MAX_DISKS:
             least = self.particles_scale * math.sqrt(disks / MAX_DISKS)
             raise InvalidParameter("particles_scale", self.particles_scale, f">= {least:.3g}",
                                    f"~{disks:,.0f} disks, more than {MAX_DISKS:,}: coarser grains or a smaller box")
+
+    def estimated_disks(self) -> float:
+        """The disks the fill will hold, as ``build_box`` expects them (nothing built)."""
+        return self.box_width * self.H * 0.85 / self.grading.mean_area()
 
     @property
     def grading(self) -> Grading:

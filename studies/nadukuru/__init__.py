@@ -21,6 +21,11 @@ from ..study import Command, Option, Study
 MODES = ("T", "RB", "RT", "mixed")
 
 
+def _footprint(case):
+    from ..runner import BASE_MEMORY, MEMORY_PER_SPHERE
+    return "particles", case.specimen.particles, BASE_MEMORY + MEMORY_PER_SPHERE * case.specimen.particles
+
+
 def _default_case():
     from .model import NadukuruCase
     return NadukuruCase()
@@ -114,6 +119,7 @@ COMPARE = Command(
                 "Coulomb, Rankine and the DSM. Example: wallsim compare nadukuru --mode RT --wall rough "
                 "--particles 6000",
     default_case=_default_case, run=_compare, text=_compare_text, busy_note=True, scale_note=scale_note,
+    footprint=_footprint,
     options=(
         Option("--mode", "T translation, RB rotation about the base, RT about the top, mixed about a point H/2 "
                          "above the top (T)", key="movement.mode", choices=MODES),
@@ -129,6 +135,7 @@ VALIDATE = Command(
     description="Triaxial calibration, one settled specimen per wall, the four modes and a half-speed "
                 "translation; writes docs/validation/nadukuru.{md,json} and figures.",
     default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True, figures=_validate_figures,
+    footprint=_footprint,
     options=(
         Option("--particles", "spheres (30000)", key="specimen.particles"),
         Option("--walls", "comma list of rough, smooth (rough,smooth)", parse=_word_list("walls", ("rough", "smooth")),

@@ -13,6 +13,11 @@ from ..options import kpa_to_pa, number
 from ..study import Command, Option, Study
 
 
+def _footprint(case):
+    from ..runner import BASE_MEMORY, MEMORY_PER_SPHERE
+    return "particles", case.specimen.particles, BASE_MEMORY + MEMORY_PER_SPHERE * case.specimen.particles
+
+
 def _default_case():
     from .lab import TriaxialCase
     return TriaxialCase()
@@ -39,7 +44,7 @@ CALIBRATE = Command(
     description="Cubical triaxial test (six servo platens, sigma_2 = sigma_3) on the sphere/clump mixture; "
                 "peak and critical-state phi, written to a calibration card that `compare nadukuru` uses for "
                 "its theories.",
-    default_case=_default_case, run=_calibrate, text=_text, busy_note=True,
+    default_case=_default_case, run=_calibrate, text=_text, busy_note=True, footprint=_footprint,
     options=(Option("--particles", "spheres (8200, the paper's)", key="specimen.particles"),
              Option("--confining", "confining stress [kPa] (200)", key="setup.confining",
                     parse=number("confining", 0, MAX_PRESSURE_KPA, hi_open=False, unit="kPa"), to_case=kpa_to_pa)))
