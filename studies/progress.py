@@ -114,25 +114,32 @@ def progress(quiet: bool = False):
 
 
 def busy_machine_note() -> str | None:
-    """One line for stderr when the numba threads of this run will compete with other
+    """One line for stderr when the numba threads of this run would compete with other
     work (fewer idle cores than threads, measured over 0.3 s while this process sleeps),
-    else None. The 1-min load average is not used: it still reads ~1 for a minute after
-    the previous job has ended.
+    else None. When the thread count is numba's default (NUMBA_NUM_THREADS not set) the
+    run is put on one thread, and the line says so; a count the user set is kept, and
+    the line says what it costs. The bits do not depend on the thread count. The 1-min
+    load average is not used: it still reads ~1 for a minute after the previous job.
 
     Why: numba's TBB layer waits at every parallel loop for a thread that has no core;
     beside one other job a 2-thread specimen preparation ran 3.5x slower than on 1
     thread (docs/validation/nadukuru.md, "Time")."""
     import numba
 
-    threads = int(numba.config.NUMBA_NUM_THREADS)
+    threads = int(numba.get_num_threads())
     cores = os.cpu_count() or 1
     if threads < 2:
         return None
     busy = busy_cores()
     if busy is None or cores - busy >= threads - 0.5:
         return None
-    return (f"note: the machine is busy ({busy:.1f} of {cores} cores in use by other work) and this run uses "
-            f"{threads} numba threads; beside other jobs NUMBA_NUM_THREADS=1 is usually several times faster")
+    if "NUMBA_NUM_THREADS" not in os.environ:
+        numba.set_num_threads(1)
+        return (f"note: the machine is busy ({busy:.1f} of {cores} cores in use by other work): this run uses 1 "
+                f"numba thread instead of {threads} (beside other jobs that is usually several times faster; the "
+                f"numbers are the same); NUMBA_NUM_THREADS={threads} keeps {threads}")
+    return (f"note: the machine is busy ({busy:.1f} of {cores} cores in use by other work) and NUMBA_NUM_THREADS="
+            f"{threads} was asked for: beside other jobs 1 thread is usually several times faster")
 
 
 def busy_cores(interval: float = 0.3) -> float | None:

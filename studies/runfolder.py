@@ -112,7 +112,7 @@ def _numba_threads():
     numba = sys.modules.get("numba")       # a 2D-only run never imports it
     if numba is None:
         return os.environ.get("NUMBA_NUM_THREADS", "default")
-    return int(numba.config.NUMBA_NUM_THREADS)
+    return int(numba.get_num_threads())        # what the run used (a busy machine lowers it)
 
 
 def _new_folder(parent: Path, stem: str) -> Path:
