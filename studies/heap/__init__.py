@@ -11,8 +11,13 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import RECORDING, count, output_folder
+from ..options import RECORDING, RESUME, output_folder
 from ..study import Command, Option, Study
+
+
+def _footprint(case):
+    from ..runner import BASE_MEMORY, MEMORY_PER_SPHERE
+    return "particles", case.particles, BASE_MEMORY + MEMORY_PER_SPHERE * case.particles
 
 
 def _default_case():
@@ -22,11 +27,19 @@ def _default_case():
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
+    from ..runner import recorded_options, saved_options
     from .compare import compare_heap
 
-    with progress(opts.quiet) as bar:
-        result, folder = compare_heap(case, root=Path(opts.out), rrd=opts.rrd if isinstance(opts.rrd, str) else None,
-                                      spawn=opts.spawn, record=not opts.no_rrd, progress=bar)
+    kept = {"rrd": opts.rrd if isinstance(opts.rrd, str) else None, "no_rrd": opts.no_rrd}
+    root = Path(opts.out)
+    if opts.resume:
+        # a resume runs where the run started and records as it did: the saved options
+        # win over today's defaults
+        root = Path(opts.resume).resolve().parents[1]
+        kept |= saved_options(opts.resume)
+    with progress(opts.quiet) as bar, recorded_options(kept):
+        result, folder = compare_heap(case, root=root, rrd=kept["rrd"], spawn=opts.spawn, record=not kept["no_rrd"],
+                                      progress=bar, resume=Path(opts.resume) if opts.resume else None)
     return result, f"run folder: {folder}"
 
 
@@ -53,24 +66,33 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     return rep, f"report: {Path(opts.docs) / 'heap.md'}"
 
 
-_PARTICLES = Option("--particles", "spheres incl. clump members (12000)", key="particles", parse=count("particles"))
+def _seeds(text: str) -> tuple[int, ...]:
+    from ..seeds import parse_seeds
+    return tuple(parse_seeds(text))
+
+
+_PARTICLES = Option("--particles", "spheres incl. clump members (12000)", key="particles")
 
 COMPARE = Command(
     verb="compare", help="Nadukuru & Michalowski's Fig. 1: a heap whose base subsides at the centre (3D)",
     description="Spheres and two-sphere clumps rained into a 4.8 m x 0.6 m box (periodic along 0.6 m); the end "
                 "walls go and the fill slumps to a prismatic heap; the base halves turn about their outer edges "
                 "to a centre subsidence Delta/H = 0.0067. Base stress before and after, force chains. "
+                "An interrupted run continues with --resume RUN_DIR (checkpoints every 5 min and every 10 % of "
+                "each stage), ending as the uninterrupted run would, bit for bit. "
                 "Example: wallsim compare heap --particles 6000 --seed 2",
-    default_case=_default_case, run=_compare, text=_compare_text, busy_note=True,
-    options=(_PARTICLES, *RECORDING[:3]))
+    default_case=_default_case, run=_compare, text=_compare_text, busy_note=True, footprint=_footprint,
+    options=(_PARTICLES, *RECORDING[:3], RESUME))
 
 VALIDATE = Command(
     verb="validate", help="three seeds at paper scale -> docs/validation/heap.md (about 30-45 min)",
-    description="Runs the heap for seeds 1..N one after the other and writes docs/validation/heap.{md,json} "
+    description="Runs the heap for each seed of --seeds one after the other and writes docs/validation/heap.{md,json} "
                 "and heap_base_stress.png: centre / peak base stress before and after subsidence (mean +- sd).",
     default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True, seed_key=None,
+    footprint=_footprint,
     options=(_PARTICLES,
-             Option("--seeds", "how many seeds, 1..N (3)", parse=count("seeds"), default=3),
+             Option("--seeds", "the seeds, A..B or a list S1,S2 (1..3)", parse=_seeds, default=(1, 2, 3),
+                    metavar="A..B|S1,S2"),
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs"))))
 

@@ -3,7 +3,8 @@
 Writes the run folder (config.toml, manifest.json, result.json, base_stress.csv,
 subsidence.csv, surface.csv, fig1a_heap.png, fig1b_force_chains.png,
 fig1c_base_stress.png, centre_over_peak.png, recording.rrd) and returns the result dict
-that ``--json`` prints.
+that ``--json`` prints. While it runs, checkpoints/heap.npz holds the run so far
+(issue 38: ``--resume`` continues it bit for bit); it is gone once the result is written.
 """
 
 from __future__ import annotations
@@ -15,7 +16,11 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..runner import Stopwatch, finish, open_recording, open_run_folder
+from ..store import atomic_write, load_npz, npz_bytes
 from .model import G, HeapCase, HeapRun, bin_centres, centre_over_peak, run_heap
+
+#: the run's checkpoint in the run folder (dropped once the run has its result)
+CHECKPOINT = "checkpoints/heap.npz"
 
 
 def cpu_seconds() -> float:
@@ -33,11 +38,23 @@ def slope_text(slope_deg, short: bool = False) -> str:
 
 
 def compare_heap(case: HeapCase, *, root: Path = Path("runs"), rrd: Path | None = None, spawn: bool = False,
-                 record: bool = True, progress=None) -> tuple[dict, Path]:
-    """One heap run: its run folder, recording, figures and the result dict."""
+                 record: bool = True, progress=None, resume: Path | None = None,
+                 checkpoint_every_s: float | None = None) -> tuple[dict, Path]:
+    """One heap run: its run folder, recording, figures and the result dict.
+
+    The run is checkpointed to <run folder>/checkpoints/heap.npz (every
+    ``checkpoint_every_s`` of wall time, default ``model.CHECKPOINT_EVERY_S``, and every
+    10 % of each stage); with ``resume`` (an interrupted run's folder, ``case`` its
+    config) the run continues from its checkpoint (from the start when it has none) and
+    ends as the uninterrupted run would, bit for bit; its recording (the part after the
+    resume) goes to recording-resumed.rrd unless ``rrd`` names a file. Wall and CPU time
+    count both parts (up to the checkpoint)."""
     clock, cpu0 = Stopwatch(), cpu_seconds()
-    folder = open_run_folder("heap", case, root)
-    rrd_path = Path(rrd) if rrd is not None else folder.file("recording.rrd")
+    folder = open_run_folder("heap", case, root, resume=resume)
+    saved = folder.path / CHECKPOINT
+    state = load_npz(saved) if resume is not None and saved.is_file() else None
+    default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
+    rrd_path = Path(rrd) if rrd is not None else folder.file(default_rrd)
     recorder = open_recording(rrd_path if record else None, study="heap", dim=3, spawn=spawn,
                               recording_id=f"{folder.path.name}-heap")
     recorder.log_case(_case_markdown(case))
@@ -45,21 +62,36 @@ def compare_heap(case: HeapCase, *, root: Path = Path("runs"), rrd: Path | None 
     def on_frame(frame, disp):
         recorder.log_frame(frame, wall_disp_over_H=disp)
 
-    with clock("run"):
-        run = run_heap(case, on_frame=on_frame, progress=progress)
-    norm = case.density * G * (1.0 - run.porosity) * run.shape.H
-    for d, s, t, c, p in zip(run.history.disp_over_H, run.history.step, run.history.time, run.history.centre,
-                             run.history.peak):
-        recorder.log_metrics(s, t, {"centre_over_peak": c / p, "centre_stress_over_rho_g_1mn_H": c / norm}, d)
-    recorder.close()
+    def save(arrays: dict) -> None:
+        atomic_write(folder.file(CHECKPOINT), npz_bytes(arrays))
+
+    try:
+        with clock("run"):
+            run = run_heap(case, on_frame=on_frame, progress=progress, checkpoint=save, resume=state,
+                           checkpoint_every_s=checkpoint_every_s)
+        norm = case.density * G * (1.0 - run.porosity) * run.shape.H
+        for d, s, t, c, p in zip(run.history.disp_over_H, run.history.step, run.history.time, run.history.centre,
+                                 run.history.peak):
+            recorder.log_metrics(s, t, {"centre_over_peak": c / p, "centre_stress_over_rho_g_1mn_H": c / norm}, d)
+    finally:
+        recorder.close()
     _write_tables(folder, case, run, norm)
     _write_figures(folder, case, run, norm)
     result = _result(case, run, norm, folder)
-    result["wall_time_s"] = clock.total
-    result["cpu_time_s"] = cpu_seconds() - cpu0
+    result["wall_time_s"] = clock.total + run.before_resume_s[0]
+    result["cpu_time_s"] = cpu_seconds() - cpu0 + run.before_resume_s[1]
+    _drop_checkpoints(folder.path)                      # finished: nothing to resume
     finish(folder, result, particles=run.spheres, dt=run.dt, contact=result["provenance"]["contact"],
            wall_time_s=result["wall_time_s"], cpu_time_s=result["cpu_time_s"])
     return result, folder.path
+
+
+def _drop_checkpoints(run: Path) -> None:
+    """Remove the run's checkpoint and its folder once the run has its result."""
+    (run / CHECKPOINT).unlink(missing_ok=True)
+    folder = (run / CHECKPOINT).parent
+    if folder.is_dir() and not any(folder.iterdir()):
+        folder.rmdir()
 
 
 def _write_tables(folder, case: HeapCase, run: HeapRun, norm: float) -> None:

@@ -1,10 +1,17 @@
 """``wallsim validate heap``: the heap at paper scale for seeds 1..N, one after the
-other, and the report docs/validation/heap.{md,json} with heap_base_stress.png."""
+other, and the report docs/validation/heap.{md,json} with heap_base_stress.png.
+
+Each seed runs in a run folder named by its resolved case, ``<root>/heap/validate-seed<S>-<key>``
+(``seed_run``): the same command run again after an interruption reads the seeds that
+finished from their result.json and runs only the others, to the same report. The key
+is of the settings, not the code: after a change of the code, remove those folders to
+run the seeds again."""
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +19,8 @@ import numpy as np
 import reproducibility
 
 from ..runfolder import git_revision, package_versions
+from ..runner import finished_result, named_run
+from ..store import content_key
 from .compare import ASSUMPTIONS, compare_heap, slope_text
 from .model import HeapCase
 
@@ -19,17 +28,41 @@ KEYS = ("centre_over_peak_before", "centre_over_peak_after", "slope_deg", "heap_
         "base_load_over_heap_weight", "subsidence_over_H")
 
 
-def validate_heap(case: HeapCase, *, seeds: int = 3, out_dir: Path = Path("docs/validation"),
+def validate_heap(case: HeapCase, *, seeds: tuple[int, ...] = (1, 2, 3), out_dir: Path = Path("docs/validation"),
                   root: Path = Path("runs"), progress=None, log=print) -> dict:
-    """Run seeds 1..``seeds`` and write the report; returns its JSON record."""
+    """Run the heap for each of ``seeds`` (a seed that finished before is read: ``seed_run``)
+    and write the report; returns its JSON record."""
     runs = []
-    for seed in range(1, seeds + 1):
-        log(f"heap: seed {seed} of {seeds}")
-        res, _ = compare_heap(dataclasses.replace(case, seed=seed), root=root, record=seed == 1, progress=progress)
+    for k, seed in enumerate(seeds):
+        log(f"heap: seed {seed} ({k + 1} of {len(seeds)})")
+        res = seed_run(dataclasses.replace(case, seed=seed), root=root, record=k == 0, progress=progress, log=log)
         runs.append(res)
         log(f"heap: seed {seed}: centre/peak {res['centre_over_peak_before']:.3f} -> "
             f"{res['centre_over_peak_after']:.3f}, {slope_text(res['slope_deg'], short=True)}, {res['wall_time_s']:.0f} s")
     return write_report(case, runs, out_dir)
+
+
+def run_name(case: HeapCase) -> str:
+    """The run folder of one seed of the validation: its seed and the hash of the whole
+    resolved case, so a changed setting never reads a stale run."""
+    return f"validate-seed{case.seed}-{content_key(case)}"
+
+
+def seed_run(case: HeapCase, *, root: Path, record: bool = False, progress=None, log=print) -> dict:
+    """The result of ``compare_heap`` on ``case`` as its run folder's result.json holds it
+    (the report reads the same numbers whether the run is new or not): read from
+    ``<root>/heap/<run_name>`` when that holds a finished run, else run there; a folder
+    without result.json (an interrupted run) is removed first and the seed run afresh."""
+    folder = Path(root) / "heap" / run_name(case)
+    done = finished_result(folder)
+    if done is not None:
+        log(f"reusing finished run {folder}")
+        return done
+    if folder.exists():
+        shutil.rmtree(folder)
+    with named_run(folder.name):
+        compare_heap(case, root=root, record=record, progress=progress)
+    return finished_result(folder)
 
 
 def write_report(case: HeapCase, runs: list[dict], out_dir: Path) -> dict:

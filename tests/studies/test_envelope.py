@@ -166,8 +166,9 @@ def test_a_run_larger_than_the_machine_is_refused_with_its_estimate(argv, key, t
     """Within the fields' bounds a run may still not fit a small machine: refused before
     anything is allocated, naming the size key and the estimate (4 KB a sphere, 4.2 KB a
     disk, as measured for dem3d and pymunk)."""
-    monkeypatch.setattr(runner, "machine_memory", lambda: 2e9)
+    monkeypatch.setattr(runner, "machine_memory", lambda: 1e9)
+    monkeypatch.setattr(runner, "command_envelope", lambda *a: pytest.fail("the run started"))
     assert cli.main(argv + ["--out", str(tmp_path), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
-    assert re.search(rf"{key} = .* this machine can hold \(needs ~[\d.]+ GB; this machine has 2 GB\)$", err), err
+    assert re.search(rf"{key} = .* this machine can hold \(needs ~[\d.]+ GB; this machine has 1 GB\)$", err), err
     assert list(tmp_path.iterdir()) == []
