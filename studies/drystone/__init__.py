@@ -122,7 +122,7 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
                               run_missing=not opts.finished_only, log=log)
     else:
         rep = validate_drystone(case, out_dir=Path(opts.docs), walls=walls, band=opts.band,
-                                convergence=not opts.no_convergence, log=log)
+                                convergence=not opts.no_convergence, log=log, root=Path(opts.out))
     return rep, f"report: {Path(opts.docs) / 'drystone.md'}"
 
 

@@ -1,13 +1,20 @@
 """``wallsim validate drystone --case A``: the five walls at the default settings, the
 solver-convergence repeat (dt / 2, twice the iterations) and the band of critical
 heights over the missing data (both geometries, gamma_m 18-22 kN/m3, alpha 0-8.5 deg for
-the limestone walls) -> docs/validation/drystone.{md,json} and drystone/ figures."""
+the limestone walls) -> docs/validation/drystone.{md,json} and drystone/ figures.
+
+Each DEM run (a wall, its convergence repeat, a band corner) goes into a run folder named
+by its resolved case, ``<root>/drystone/validate-<what>-<key>`` (``dem_run``): the same
+command run again after an interruption reads the runs that finished from their
+result.json and runs only the others, to the same report. The key is of the settings,
+not the code: after a change of the code, remove those folders to run the walls again."""
 
 from __future__ import annotations
 
 import itertools
 import json
 import math
+import shutil
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -15,7 +22,8 @@ from pathlib import Path
 import reproducibility
 
 from ..runfolder import git_revision, package_versions, to_plain
-from ..store import atomic_write
+from ..runner import finished_result
+from ..store import atomic_write, content_key
 from .case import GEOMETRIES, DrystoneCase, assumptions, reference
 from .run import RIGID_NOTE, limit_equilibrium, run_dem, wall_result
 
@@ -41,10 +49,61 @@ def _le_height(case: DrystoneCase) -> tuple[float, bool]:
     return le["critical_height_m"], bool(le["stands_to_crest"])
 
 
-def band(case: DrystoneCase, dem: bool, log=None) -> dict:
+def dem_run(case: DrystoneCase, what: str, root: Path, *, figures: bool = False, log=None) -> dict:
+    """One DEM run (``run_dem``) of the validation as its run folder's result.json holds
+    it (``wall_result`` and ``run_folder``; the report reads the same numbers whether the
+    run is new or not). The folder, ``<root>/drystone/validate-<what>-<key>`` (key: the
+    hash of the resolved case, so a changed setting never reads a stale run), is read
+    when it holds a finished run, else the run goes there, a folder without result.json
+    (an interrupted run) removed first. ``figures``: the wall's history and mechanism
+    figures too, history.png and mechanism.png in the folder."""
+    from ..runner import finish, open_run_folder
+
+    folder = run_folder(case, what, root)
+    done = finished_result(folder)
+    if done is not None:
+        if log:
+            log(f"reusing finished run {folder}")
+        return done
+    if folder.exists():
+        shutil.rmtree(folder)
+    rf = open_run_folder("drystone", case, root, name=folder.name, seed=None)
+    wall, res, seconds, cpu = run_dem(case)
+    r = wall_result(case, wall, res, seconds, cpu) | {"run_folder": str(rf.path)}
+    if figures:
+        _wall_figures(case, r, res, rf.path)
+    finish(rf, r, main=False, particles=wall.block_count, steps=res.steps, dt_s=case.dt, iterations=case.iterations,
+           contact=r["contact"], wall_time_s=seconds, cpu_time_s=cpu, assumptions=r["assumptions"])
+    return finished_result(folder)
+
+
+def run_folder(case: DrystoneCase, what: str, root: Path) -> Path:
+    """Where ``dem_run`` keeps the run ``what`` (wall, convergence, band) of ``case``."""
+    return Path(root) / "drystone" / f"validate-{what}-{content_key(case)}"
+
+
+def _wall_figures(case: DrystoneCase, r: dict, res, folder: Path) -> None:
+    """history.png (water height vs crest displacement) and mechanism.png (the blocks at
+    failure) of one wall's run, in ``folder``."""
+    from viz.figures import plot_drystone_history, plot_drystone_mechanism
+
+    le = r["limit_equilibrium"]["yield-design"]
+    plot_drystone_history(res.water_height_m, res.crest_displacement_m, folder / "history.png",
+                          title=f"{case.wall}: water height vs crest displacement\n(rigid-block kinematics: pre-failure displacements are numerical)",
+                          measured_m=r["measured"]["height_m"], le_m=le["critical_height_m"],
+                          critical_m=r["dem"]["critical_height_m"], notes=r["assumptions"])
+    m = res.mechanism
+    plot_drystone_mechanism(res.reference_outlines, res.outlines, res.velocities, folder / "mechanism.png",
+                            water_height=res.water_height_m[-1],
+                            title=f"{case.wall} at failure: {m.mode} at {m.level_m:.3f} m" if m else case.wall,
+                            level_m=m.level_m if m else None, pivot=m.pivot if m and m.mode == "toppling" else None,
+                            notes=r["assumptions"])
+
+
+def band(case: DrystoneCase, dem: bool, log=None, root: Path = Path("runs")) -> dict:
     """Critical heights over the band corners: the limit equilibrium at every corner, and
     (``dem``) the DEM at the corners where it is lowest, highest, and highest with the
-    default (back-fit) geometry."""
+    default (back-fit) geometry (``dem_run``, under ``root``)."""
     corners = band_corners(case)
     found = [_le_height(c) for c in corners]
     les = [h for h, _ in found]
@@ -60,20 +119,21 @@ def band(case: DrystoneCase, dem: bool, log=None) -> dict:
     back = [i for i, c in enumerate(corners) if c.geometry == "back-fit"]
     picks = sorted({les.index(min(les)), max(back, key=lambda i: les[i]), les.index(max(les))})
     for i in picks:
-        _, res, seconds, cpu = run_dem(corners[i])
-        m, fx = res.mechanism, limit_equilibrium(corners[i])["above-fixed-course"]
-        rows[i] |= {"dem_height_m": res.critical_height_m if res.failed else None,
-                    "dem_mode": m.mode if m else None, "dem_mechanism_level_m": m.level_m if m else None,
-                    "dem_pivot_m": list(m.pivot) if m and m.pivot is not None else None,
+        r = dem_run(corners[i], "band", root, log=log)
+        d, fx = r["dem"], limit_equilibrium(corners[i])["above-fixed-course"]
+        pivot = d["pivot_m"]
+        rows[i] |= {"dem_height_m": d["critical_height_m"],
+                    "dem_mode": d["mode"], "dem_mechanism_level_m": d["mechanism_level_m"],
+                    "dem_pivot_m": pivot,
                     # > 0: the toppling pivot lies inside the outer face (the limit equilibrium's is on it)
-                    "dem_pivot_inside_outer_face_m": m.pivot[0] - corners[i].section().x_outer(m.pivot[1])
-                    if m and m.mode == "toppling" and m.pivot is not None else None,
-                    "dem_stands_to_crest": not res.failed,
+                    "dem_pivot_inside_outer_face_m": pivot[0] - corners[i].section().x_outer(pivot[1])
+                    if d["mode"] == "toppling" and pivot is not None else None,
+                    "dem_stands_to_crest": not d["failed"],
                     "limit_equilibrium_above_fixed_course": fx,
-                    "dem_minus_fixed_course_le_m": (res.critical_height_m - fx["critical_height_m"])
-                    if res.failed else None,
+                    "dem_minus_fixed_course_le_m": (d["critical_height_m"] - fx["critical_height_m"])
+                    if d["failed"] else None,
                     "increment_m": corners[i].section().height_m * corners[i].increment_fraction,
-                    "wall_time_s": seconds, "cpu_time_s": cpu}
+                    "wall_time_s": r["wall_time_s"], "cpu_time_s": r["cpu_time_s"]}
         if log:
             log(f"  band corner {rows[i]['geometry']}, gamma {rows[i]['unit_weight_kN_m3']:g}, alpha "
                 f"{rows[i]['joint_slope_deg']:g}: DEM {rows[i]['dem_height_m']} ({rows[i]['dem_mode']})")
@@ -87,44 +147,34 @@ def band(case: DrystoneCase, dem: bool, log=None) -> dict:
     return out
 
 
-def convergence(case: DrystoneCase, base: dict) -> dict:
-    """The same wall with dt / 2 and twice the iterations (issue 23)."""
+def convergence(case: DrystoneCase, base: dict, root: Path = Path("runs"), log=None) -> dict:
+    """The same wall with dt / 2 and twice the iterations (issue 23; ``dem_run``, under ``root``)."""
     fine = replace(case, dt=case.dt / 2, iterations=case.iterations * 2)
-    wall, res, seconds, cpu = run_dem(fine)
-    h0, h1 = base["dem"]["critical_height_m"], res.critical_height_m if res.failed else None
+    r = dem_run(fine, "convergence", root, log=log)
+    h0, h1 = base["dem"]["critical_height_m"], r["dem"]["critical_height_m"]
     change = 100 * abs(h1 - h0) / h0 if h0 and h1 else math.nan
-    mode1 = res.mechanism.mode if res.mechanism else None
+    mode1 = r["dem"]["mode"]
     return {"dt_s": fine.dt, "iterations": fine.iterations, "critical_height_m": h1, "mode": mode1,
             "change_percent": change, "mode_same": mode1 == base["dem"]["mode"],
             "holds": bool(change < CONVERGENCE_LIMIT_PERCENT and mode1 == base["dem"]["mode"]),
-            "wall_time_s": seconds, "cpu_time_s": cpu}
+            "wall_time_s": r["wall_time_s"], "cpu_time_s": r["cpu_time_s"]}
 
 
-def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: bool, log=None) -> dict:
-    """One wall: the default run (with its figures), the convergence repeat, the band."""
-    from viz.figures import plot_drystone_history, plot_drystone_mechanism
-
-    wall, res, seconds, cpu = run_dem(case)
-    r = wall_result(case, wall, res, seconds, cpu)
+def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: bool, log=None,
+                  root: Path = Path("runs")) -> dict:
+    """One wall: the default run (with its figures), the convergence repeat, the band;
+    each DEM run in its own run folder under ``root`` (``dem_run``)."""
+    r = dem_run(case, "wall", root, figures=True, log=log)
     if log:
         log(f"{case.wall}: DEM {r['dem']['critical_height_m']} m {r['dem']['mode']} "
-            f"({seconds:.1f} s wall, {cpu:.1f} s CPU)")
-    le = r["limit_equilibrium"]["yield-design"]
-    plot_drystone_history(res.water_height_m, res.crest_displacement_m, fig_dir / f"{case.wall}_history.png",
-                          title=f"{case.wall}: water height vs crest displacement\n(rigid-block kinematics: pre-failure displacements are numerical)",
-                          measured_m=r["measured"]["height_m"], le_m=le["critical_height_m"],
-                          critical_m=r["dem"]["critical_height_m"], notes=r["assumptions"])
-    m = res.mechanism
-    plot_drystone_mechanism(res.reference_outlines, res.outlines, res.velocities, fig_dir / f"{case.wall}_mechanism.png",
-                            water_height=res.water_height_m[-1],
-                            title=f"{case.wall} at failure: {m.mode} at {m.level_m:.3f} m" if m else case.wall,
-                            level_m=m.level_m if m else None, pivot=m.pivot if m and m.mode == "toppling" else None,
-                            notes=r["assumptions"])
-    r["convergence"] = convergence(case, r) if check else None
+            f"({r['wall_time_s']:.1f} s wall, {r['cpu_time_s']:.1f} s CPU)")
+    for name in ("history", "mechanism"):
+        shutil.copyfile(run_folder(case, "wall", root) / f"{name}.png", fig_dir / f"{case.wall}_{name}.png")
+    r["convergence"] = convergence(case, r, root, log) if check else None
     if log and check:
         log(f"  convergence: {r['convergence']['critical_height_m']} m {r['convergence']['mode']} "
             f"({r['convergence']['change_percent']:.2f} %)")
-    r["band"] = band(case, dem_band, log)
+    r["band"] = band(case, dem_band, log, root)
     return r
 
 
@@ -137,8 +187,9 @@ def entry(r: dict) -> dict:
             "limit_equilibrium_height_m": le["critical_height_m"], "limit_equilibrium_mode": le["mode"],
             "band_m": r["band"]["band_m"], "wall_time_s": r["wall_time_s"],
             "cpu_time_s": r["cpu_time_s"], "error_percent": r["error_percent"],
+            # None: no failure up to the crest (result.json holds NaN as null)
             "within_10_percent": bool(abs(r["error_percent"]) <= ACCURACY_LIMIT_PERCENT)
-            if math.isfinite(r["error_percent"]) else False,
+            if r["error_percent"] is not None and math.isfinite(r["error_percent"]) else False,
             "mode_matches": r["mode_matches"], "paper_dem": r["paper_dem"],
             "limit_equilibrium_bed_joints": r["limit_equilibrium"]["bed-joints"],
             "limit_equilibrium_above_fixed_course": r["limit_equilibrium"]["above-fixed-course"],
@@ -162,8 +213,10 @@ def rewrite_report(out_dir: Path) -> Path:
 
 
 def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], band: str = "dem",
-                      convergence: bool = True, log=None) -> dict:
-    """Every wall in ``walls``; writes drystone.json, drystone.md and drystone/*.png."""
+                      convergence: bool = True, log=None, root: Path = Path("runs")) -> dict:
+    """Every wall in ``walls``; writes drystone.json, drystone.md and drystone/*.png. The
+    DEM runs go into run folders under ``root`` (``dem_run``): those that finished before
+    are read, not run again."""
     from .report import write_report
 
     t0, c0 = time.perf_counter(), time.process_time()
@@ -173,7 +226,7 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
     results = {}
     for w in walls:
         results[w] = validate_wall(replace(case, wall=w), fig_dir, dem_band=band == "dem", check=convergence,
-                                   log=log)
+                                   log=log, root=Path(root))
     rep = {"case": "A", "study": "drystone", "walls": {w: entry(r) for w, r in results.items()},
            "settings": {"geometry": case.geometry, "dt_s": case.dt, "iterations": case.iterations,
                         "water_direction": case.water_direction, "increment_fraction": case.increment_fraction,

@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import shutil
 import time
 from pathlib import Path
 
@@ -34,7 +35,7 @@ from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.report import theory_row
 from studies.runfolder import RunFolder, package_versions, to_plain
-from studies.runner import Stopwatch, finish, open_recording, open_run_folder
+from studies.runner import Stopwatch, finish, finished_result, open_recording, open_run_folder
 from studies.store import Store, content_key
 
 #: Khosravi et al.'s published values the report compares with (shipped with the package)
@@ -375,15 +376,68 @@ VALIDATION_DIS_OVER_H = 0.01
 
 
 def validate_khosravi(*, out_dir: str | Path, root: str | Path = "runs", quiet: bool = False,
-                      case: KhosraviCase | None = None, rrd: bool = False) -> dict:
+                      case: KhosraviCase | None = None, rrd: bool = False, log=None) -> dict:
     """Full-size run (H = 0.3 m, D50 = 1.16 mm) and its report: ``khosravi.json`` and
-    ``khosravi.md`` with the figures in ``out_dir`` (docs/validation by default)."""
+    ``khosravi.md`` with the figures in ``out_dir`` (docs/validation by default).
+
+    Its two runs are read, not run again, when a finished run of the same case is there
+    (the same command run again after an interruption): the translation in
+    ``<root>/khosravi/validate-translation-<key>`` (``validation_run``), the free fill in
+    ``<root>/khosravi/backfilling`` (``backfilling_run``); after a change of the code,
+    remove those folders to run them again. ``log``: one line each (None: to stderr
+    unless ``quiet``)."""
     from studies.khosravi.report import write_report
 
+    if log is None:
+        import sys
+        log = (lambda msg: None) if quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
     case = case or KhosraviCase(wall_disp_over_H_max=VALIDATION_DIS_OVER_H)
-    result, rf = compare_khosravi(case, root=root, quiet=quiet, rrd=rrd)
+    result, rf = validation_run(case, root=root, quiet=quiet, rrd=rrd, log=log)
     backfilling = None
     if case.pluviation.hold_depth > 0:  # Fig. 9 needs every cell read: a free fill of the same box
-        from .backfilling import run_backfilling
-        backfilling = run_backfilling(case, root=root, quiet=quiet)
+        backfilling = backfilling_run(case, root=root, quiet=quiet, log=log)
     return write_report(result, rf, Path(out_dir), REFERENCE, backfilling=backfilling)
+
+
+def validation_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool = False, rrd: bool = False,
+                   log=lambda msg: None) -> tuple[dict, RunFolder]:
+    """(result.json, run folder) of ``compare_khosravi`` on ``case`` in
+    ``<root>/khosravi/validate-translation-<key>`` (key: the hash of the resolved case, so
+    a changed setting never reads a stale run): read when that folder holds a finished
+    run, else run there, a folder without result.json (an interrupted run) removed first
+    (the pluviation goes on from its stored checkpoint: ``settled_box``). The result is
+    read back from result.json either way, so a report is the same from a new run or
+    a finished one."""
+    folder = Path(root) / "khosravi" / f"validate-translation-{content_key(case)}"
+    if finished_result(folder) is not None:
+        log(f"reusing finished run {folder}")
+    else:
+        if folder.exists():
+            shutil.rmtree(folder)
+        compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, name=folder.name)
+    return finished_result(folder), RunFolder.existing(folder, seed=case.seed)
+
+
+def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool = False,
+                    log=lambda msg: None) -> tuple[dict, RunFolder]:
+    """(result.json, run folder) of the free fill of ``case``'s box (``run_backfilling``,
+    whose run folder is always ``<root>/khosravi/backfilling``): read when that folder
+    holds a finished fill of this very case (its config.toml equal, field for field, to
+    the free-fill case), else run afresh, whatever the folder held removed first."""
+    import tomllib
+
+    from studies.runfolder import config_toml
+
+    from .backfilling import free_fill_case, run_backfilling
+    folder = Path(root) / "khosravi" / "backfilling"
+    try:
+        same = tomllib.loads((folder / "config.toml").read_text()) == tomllib.loads(config_toml(free_fill_case(case)))
+    except (OSError, tomllib.TOMLDecodeError):
+        same = False
+    if same and finished_result(folder) is not None:
+        log(f"reusing finished run {folder}")
+    else:
+        if folder.exists():
+            shutil.rmtree(folder)
+        run_backfilling(case, root=root, quiet=quiet)
+    return finished_result(folder), RunFolder.existing(folder, seed=case.seed)

@@ -5,6 +5,13 @@ settled specimen (cached) shared by the four modes, a half-speed repeat of trans
 (rate check), and the triaxial calibration of the same mixture. Each figure is set
 against Tables 1-2 with the validation targets (reference.json); a miss is reported with its figure,
 never hidden.
+
+Each DEM run (the triaxial test, each mode of each wall, the rate check) goes into a run
+folder named by its resolved case, ``<root>/nadukuru/validate-<what>-<key>``
+(``triaxial_run``, ``movement_run``): the same command run again after an interruption
+reads the runs that finished, resumes the movement that was interrupted from its
+checkpoint, and runs the others, to the same report. The key is of the settings, not the
+code: after a change of the code, remove those folders to run them again.
 """
 
 from __future__ import annotations
@@ -12,6 +19,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import shutil
 import time
 from pathlib import Path
 
@@ -22,8 +30,9 @@ import reproducibility
 from .model import G, MODES, Movement, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
     rough_or_smooth, theory_rows
 from ..config import with_current_names
-from ..store import atomic_write
 from ..runfolder import package_versions, git_revision, to_plain
+from ..runner import finish, finished_result, open_run_folder
+from ..store import atomic_write, content_key, load_npz, npz_bytes
 
 #: the validation targets (reference.json "targets"): K and h/H against Tables 1-2
 TARGETS = json.loads((Path(__file__).with_name("reference.json")).read_text())["targets"]
@@ -67,11 +76,9 @@ def _phi_for_theories(base: NadukuruCase, report: dict, triaxial: bool, root: Pa
     (``triaxial``), else from a card of an earlier ``wallsim calibrate triaxial``, else
     the paper's. Adds the test's figures to ``report["triaxial"]`` when there are any."""
     if triaxial:
-        from ..triaxial.lab import TriaxialSetup, calibrate_triaxial
-        tt = time.perf_counter()
-        card, _ = calibrate_triaxial(base, TriaxialSetup(), particles=8200, root=root, progress=progress)
+        card = triaxial_run(base, root, progress, log)
         report["triaxial"] = {k: card[k] for k in ("phi_peak_deg", "strain_at_peak", "phi_end_deg", "porosity",
-                                                    "particles")} | {"wall_time_s": time.perf_counter() - tt}
+                                                    "particles", "wall_time_s")}
         log(f"triaxial: phi peak {card['phi_peak_deg']:.1f} deg")
         return report["triaxial"]["phi_peak_deg"], "triaxial"
     from .compare import phi_card
@@ -85,11 +92,104 @@ def _phi_for_theories(base: NadukuruCase, report: dict, triaxial: bool, root: Pa
     return phi, phi_src
 
 
+#: the triaxial test of the validation: the paper's 8,200 spheres
+TRIAXIAL_PARTICLES = 8200
+
+
+def triaxial_run(base: NadukuruCase, root: Path, progress=None, log=print) -> dict:
+    """The calibration card of the triaxial test of ``base``'s recipe and seed
+    (``calibrate_triaxial``, which also writes it where ``compare`` finds it), as the run
+    folder ``<root>/nadukuru/validate-triaxial-<key>`` keeps it in result.json: read when
+    that holds a finished test, else run (a folder without result.json removed first)."""
+    from ..triaxial.lab import TriaxialSetup, calibrate_triaxial
+    setup = TriaxialSetup()
+    what = {"specimen": base.specimen, "seed": base.seed, "triaxial": setup, "particles": TRIAXIAL_PARTICLES}
+    folder = Path(root) / "nadukuru" / f"validate-triaxial-{content_key(what)}"
+    if finished_result(folder) is not None:
+        log(f"reusing finished run {folder}")
+        return finished_result(folder)
+    if folder.exists():
+        shutil.rmtree(folder)
+    rf = open_run_folder("nadukuru", what, root, name=folder.name, seed=base.seed)
+    card, path = calibrate_triaxial(base, setup, particles=TRIAXIAL_PARTICLES, root=root, progress=progress)
+    finish(rf, dict(card) | {"card": str(path)}, main=False)
+    return finished_result(folder)
+
+
+def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every: int = 0, chains: str | None = None,
+                 progress=None, log=print) -> tuple[dict, dict, Path]:
+    """One wall movement of the validation (``run_modes`` on ``case`` from the settled
+    ``spec``) in the run folder ``<root>/nadukuru/validate-<what>-<key>`` (key: the hash
+    of the resolved case, so a changed setting never reads a stale run): read when it
+    holds a finished run, resumed from its checkpoint when it holds an interrupted one,
+    else run there. Returns (result.json, history.npz: the load history and the active
+    figures exactly as ``run_modes`` gave them, the folder). ``chains``: the wall's word,
+    to draw the force chains at the end (force_chains.png) and the displacements over the
+    movement (displacements.png) in the folder."""
+    folder = Path(root) / "nadukuru" / f"validate-{what}-{content_key(case)}"
+    if finished_result(folder) is not None:
+        log(f"reusing finished run {folder}")
+    else:
+        resume = folder if (folder / "config.toml").is_file() else None
+        if resume is not None:
+            log(f"resuming unfinished run {folder}")
+        elif folder.exists():
+            shutil.rmtree(folder)
+        _move(case, spec, open_run_folder("nadukuru", case, root, name=folder.name, resume=resume), frame_every,
+              chains, progress)
+    return finished_result(folder), load_npz(folder / "history.npz"), folder
+
+
+#: the history arrays and active figures of a movement that its run folder keeps (history.npz)
+_HISTORY = ("wall_disp_over_H", "K", "resultant_height_over_H", "segment_stress_active", "K_active",
+            "resultant_height_over_H_active", "wall_disp_over_H_steady")
+
+
+def _move(case: NadukuruCase, spec, rf, frame_every: int, chains: str | None, progress) -> None:
+    """Move the wall in run folder ``rf`` (checkpoints/movement.npz, resumed from when
+    there), then write history.npz, the figures of ``chains`` and result.json (last)."""
+    first = rf.path / "first_positions.npz"         # kept, so a resumed run draws the whole movement
+    last = {}
+
+    def on_frame(frame, sample):
+        if chains and not first.is_file():
+            atomic_write(first, npz_bytes({"positions": frame.positions}))
+        last["frame"] = frame
+
+    tm = time.perf_counter()
+    hist = run_modes(case, spec, frame_every=frame_every, progress=progress, on_frame=on_frame,
+                     checkpoint_path=rf.file("checkpoints/movement.npz"))
+    seconds = time.perf_counter() - tm
+    atomic_write(rf.path / "history.npz", npz_bytes({k: np.asarray(hist[k]) for k in _HISTORY}))
+    if chains and "frame" in last:
+        _draw_chains(rf.path, chains, load_npz(first)["positions"], last["frame"])
+    (rf.path / "checkpoints" / "movement.npz").unlink(missing_ok=True)        # finished: nothing to resume
+    if (rf.path / "checkpoints").is_dir() and not any((rf.path / "checkpoints").iterdir()):
+        (rf.path / "checkpoints").rmdir()
+    result = {"mode": case.movement.mode, "speed_m_per_s": case.movement.speed, "K_active": hist["K_active"],
+              "resultant_height_over_H_active": hist["resultant_height_over_H_active"],
+              "wall_disp_over_H_steady": hist["wall_disp_over_H_steady"], "wall_time_s": seconds,
+              "particles": spec.n_spheres, "seed": case.seed}
+    finish(rf, result, main=False, particles=spec.n_spheres, dt=spec.dt)
+
+
+def _draw_chains(folder: Path, wall_kind: str, start: np.ndarray, frame) -> None:
+    """The force chains at the end of a rotation about the top and its Fig. 3(a)
+    displacement field from ``start`` (positions of the first frame) to ``frame``."""
+    from viz.figures import plot_displacement_field, plot_force_chains
+    plot_force_chains(frame, folder / "force_chains.png",
+                      title=f"Rotation about the top, {wall_kind} wall: force chains at the end")
+    plot_displacement_field(start, frame.positions, folder / "displacements.png",
+                            title=f"Fig. 3(a): rotation about the top, {wall_kind} wall,\n"
+                                  "displacements x15 at the end of the movement")
+
+
 def _validate_wall(case: NadukuruCase, wall_kind: str, modes, phi: float, phi_src: str, rate_check: bool,
                    root: Path, progress, log) -> tuple[dict, tuple]:
     """One wall kind: its settled specimen (cached under ``root``), each mode against the
     paper and, with ``rate_check``, translation at half speed. Returns (the report entry,
-    what the figures need: specimen, K curves, segment stresses, RT frames or None)."""
+    what the figures need: specimen, K curves, segment stresses, the RT run's folder with
+    its force chains and displacements, or None)."""
     tp = time.perf_counter()
     spec, cached = load_or_prepare(case, root / "nadukuru" / "specimens", progress)
     entry = {"specimen": {"particles": spec.n_spheres, "bodies": spec.n_bodies, "porosity": spec.porosity,
@@ -102,60 +202,59 @@ def _validate_wall(case: NadukuruCase, wall_kind: str, modes, phi: float, phi_sr
     curves, segs, chains = {}, {}, None
     gamma = case.specimen.density * (1 - spec.porosity) * G
     for mode in modes:
-        row, hist, last = _validate_mode(case, spec, mode, wall_kind, phi, phi_src, gamma, progress)
+        row, hist, folder = _validate_mode(case, spec, mode, wall_kind, phi, phi_src, gamma, root, progress, log)
         entry["modes"][mode] = row
         curves[mode] = (hist["wall_disp_over_H"], hist["K"])
         segs[mode] = hist["segment_stress_active"][::-1] / (gamma * case.wall.height)
-        if "f" in last and mode == "RT":
-            chains = (last["first"], last["f"])
+        if mode == "RT" and (folder / "force_chains.png").is_file():
+            chains = folder
         paper = row["paper"]
         log(f"{wall_kind} {mode}: K {row['K']:.3f} (paper {paper['K']}), h/H {row['resultant_height_over_H']:.3f} "
             f"(paper {paper['resultant_height_over_H']}), {row['wall_time_s']:.0f} s")
     if rate_check and "T" in modes:
-        entry["rate_check"] = _rate_check(case, spec, entry["modes"]["T"]["K"], progress)
+        entry["rate_check"] = _rate_check(case, spec, entry["modes"]["T"]["K"], wall_kind, root, progress, log)
         log(f"{wall_kind} T at half speed: K {entry['rate_check']['K']:.3f}")
     return entry, (spec, curves, segs, chains)
 
 
 def _validate_mode(case: NadukuruCase, spec, mode: str, wall_kind: str, phi: float, phi_src: str, gamma: float,
-                   progress) -> tuple[dict, dict, dict]:
-    """One mode from the settled specimen: its report row (active K and resultant height
-    against the paper within TOL_K, TOL_H; the theories at ``phi`` [deg] and the unit
-    weight ``gamma`` [N/m^3]), the load history, and for RT the first and last frames."""
+                   root: Path, progress, log) -> tuple[dict, dict, Path]:
+    """One mode from the settled specimen (``movement_run``): its report row (active K and
+    resultant height against the paper within TOL_K, TOL_H; the theories at ``phi`` [deg]
+    and the unit weight ``gamma`` [N/m^3]), the load history, and its run folder (for RT
+    with the force chains and displacements)."""
     c = dataclasses.replace(case, movement=dataclasses.replace(case.movement, mode=mode))
-    tm = time.perf_counter()
-    last = {}
-    hist = run_modes(c, spec, frame_every=10**9 if mode != "RT" else 10**5, progress=progress,
-                     on_frame=lambda f, s: (last.setdefault("first", f), last.__setitem__("f", f)))
+    res, hist, folder = movement_run(c, spec, f"{wall_kind}-{mode}", root,
+                                     frame_every=10**9 if mode != "RT" else 10**5,
+                                     chains=wall_kind if mode == "RT" else None, progress=progress, log=log)
     paper = paper_values(mode, wall_kind)
-    row = {"K": hist["K_active"], "resultant_height_over_H": hist["resultant_height_over_H_active"],
-           "wall_disp_over_H_steady": hist["wall_disp_over_H_steady"], "wall_time_s": time.perf_counter() - tm,
+    row = {"K": float(hist["K_active"]), "resultant_height_over_H": float(hist["resultant_height_over_H_active"]),
+           "wall_disp_over_H_steady": float(hist["wall_disp_over_H_steady"]), "wall_time_s": res["wall_time_s"],
            "particles": spec.n_spheres, "seed": case.seed, "paper": paper,
            "theory": theory_rows(mode, phi, case.wall.friction, gamma, case.wall.height,
                                  phi_src)}
     if paper["K"] is not None:
         row["K_within_tol"] = abs(row["K"] - paper["K"]) <= TOL_K
         row["height_within_tol"] = abs(row["resultant_height_over_H"] - paper["resultant_height_over_H"]) <= TOL_H
-    return row, hist, last
+    return row, hist, folder
 
 
-def _rate_check(case: NadukuruCase, spec, K_translation: float, progress) -> dict:
-    """Translation again at half the wall speed: the active K and its change from the
-    full-speed K (the target is < 0.01, i.e. the movement is quasi-static)."""
+def _rate_check(case: NadukuruCase, spec, K_translation: float, wall_kind: str, root: Path, progress, log) -> dict:
+    """Translation again at half the wall speed (``movement_run``): the active K and its
+    change from the full-speed K (the target is < 0.01, i.e. the movement is quasi-static)."""
     c = dataclasses.replace(case, movement=dataclasses.replace(case.movement, mode="T",
                                                                speed=0.5 * case.movement.speed))
-    tm = time.perf_counter()
-    hist = run_modes(c, spec, progress=progress)
-    return {"speed_m_per_s": c.movement.speed, "K": hist["K_active"],
-            "dK": hist["K_active"] - K_translation,
-            "wall_time_s": time.perf_counter() - tm}
+    res, hist, _ = movement_run(c, spec, f"{wall_kind}-T-half-speed", root, progress=progress, log=log)
+    K = float(hist["K_active"])
+    return {"speed_m_per_s": c.movement.speed, "K": K, "dK": K - K_translation, "wall_time_s": res["wall_time_s"]}
 
 
 def _draw_wall_figures(out_dir: Path, wall_kind: str, case: NadukuruCase, modes, spec, curves: dict, segs: dict,
-                       chains) -> None:
+                       chains: Path | None) -> None:
     """Figs. 4 and 5 of the paper for one wall (K vs Delta/H, segment stresses) and, when
-    the RT frames were kept, its force chains and Fig. 3(a) displacement field."""
-    from viz.figures import plot_displacement_field, plot_force_chains, plot_load_history, plot_segment_stress
+    the RT run drew them (``chains``, its folder), its force chains and Fig. 3(a)
+    displacement field."""
+    from viz.figures import plot_load_history, plot_segment_stress
 
     paper_K = {m: paper_values(m, wall_kind)["K"] for m in modes if paper_values(m, wall_kind)["K"]}
     plot_load_history(curves, out_dir / f"nadukuru_fig4_{wall_kind}.png", paper=paper_K,
@@ -164,12 +263,8 @@ def _draw_wall_figures(out_dir: Path, wall_kind: str, case: NadukuruCase, modes,
     plot_segment_stress(segs, edges, out_dir / f"nadukuru_fig5_{wall_kind}.png",
                         title=f"Segment stress at Delta/H = {case.movement.wall_disp_over_H}, {wall_kind} wall")
     if chains is not None:
-        plot_force_chains(chains[1], out_dir / f"nadukuru_chains_RT_{wall_kind}.png",
-                          title=f"Rotation about the top, {wall_kind} wall: force chains at the end")
-        plot_displacement_field(chains[0].positions, chains[1].positions,
-                                out_dir / f"nadukuru_fig3a_RT_{wall_kind}.png",
-                                title=f"Fig. 3(a): rotation about the top, {wall_kind} wall,\n"
-                                      "displacements x15 at the end of the movement")
+        shutil.copyfile(chains / "force_chains.png", out_dir / f"nadukuru_chains_RT_{wall_kind}.png")
+        shutil.copyfile(chains / "displacements.png", out_dir / f"nadukuru_fig3a_RT_{wall_kind}.png")
 
 
 def _write_report(report: dict, out_dir: Path) -> dict:

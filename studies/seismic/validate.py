@@ -5,6 +5,13 @@ static, the passive K at 1.5 m below the dredge line, settlement at the wall and
 8 m, wall time; each of the paper's trends (reference section 7) stated as held, not held
 or not run (a trend over frequencies needs all of them). Frequencies not run are listed
 as not run, never filled in.
+
+Each frequency runs in a run folder named by its resolved case,
+``<root>/seismic/validate-<f>Hz-<key>`` (``frequency_run``): the same command run again
+after an interruption reads the frequencies that finished, resumes the one that was
+interrupted from its checkpoint, and runs the others, to the same report. The key is of
+the settings, not the code: after a change of the code, remove those folders to run the
+frequencies again.
 """
 
 from __future__ import annotations
@@ -13,6 +20,7 @@ import csv
 import dataclasses
 import json
 import math
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +28,8 @@ import numpy as np
 import reproducibility
 
 from ..runfolder import git_revision, package_versions
+from ..runner import finished_result, named_run
+from ..store import content_key
 from .case import PAPER_FREQUENCIES, SeismicCase
 
 #: per-frequency keys of seismic.json (the issue's list)
@@ -43,14 +53,38 @@ STATIC_FAILURE = 0.02
 
 def validate_seismic(case: SeismicCase, *, frequencies=PAPER_FREQUENCIES, out_dir: Path = Path("docs/validation"),
                      root: Path = Path("runs"), progress=None, log=print) -> dict:
-    from .compare import compare_seismic
     folders = {}
     for f in frequencies:
         log(f"seismic: {f:g} Hz")
-        _, folder = compare_seismic(dataclasses.replace(case, frequency=float(f)), root=root, record=f == 5.0,
-                                    progress=progress)
-        folders[float(f)] = folder
+        folders[float(f)] = frequency_run(dataclasses.replace(case, frequency=float(f)), root=root,
+                                          record=f == 5.0, progress=progress, log=log)
     return write_report(case, folders, out_dir, material=out_dir / "seismic_material.json")
+
+
+def run_name(case: SeismicCase) -> str:
+    """The run folder of one frequency of the validation: the frequency and the hash of
+    the whole resolved case, so a changed setting never reads a stale run."""
+    return f"validate-{case.frequency:g}Hz-{content_key(case)}"
+
+
+def frequency_run(case: SeismicCase, *, root: Path, record: bool = False, progress=None, log=print) -> Path:
+    """The run folder of ``compare_seismic`` on ``case`` (what ``write_report`` reads):
+    ``<root>/seismic/<run_name>``, read as it is when it holds a finished run
+    (result.json), resumed from its checkpoint when it holds an interrupted one (its
+    config.toml is ``case``), else run afresh there."""
+    from .compare import compare_seismic
+    folder = Path(root) / "seismic" / run_name(case)
+    if finished_result(folder) is not None:
+        log(f"reusing finished run {folder}")
+        return folder
+    resume = folder if (folder / "config.toml").is_file() else None
+    if resume is not None:
+        log(f"resuming unfinished run {folder}")
+    elif folder.exists():
+        shutil.rmtree(folder)           # not even its config was written: nothing to resume
+    with named_run(folder.name):
+        compare_seismic(case, root=root, record=record, progress=progress, resume=resume)
+    return folder
 
 
 def stood_before_shaking(series: dict, ramp_s: float, wall_length_m: float) -> tuple[bool, str]:
