@@ -51,13 +51,18 @@ def run_name(case: HeapCase) -> str:
 def seed_run(case: HeapCase, *, root: Path, record: bool = False, progress=None, log=print) -> dict:
     """The result of ``compare_heap`` on ``case`` as its run folder's result.json holds it
     (the report reads the same numbers whether the run is new or not): read from
-    ``<root>/heap/<run_name>`` when that holds a finished run, else run there; a folder
-    without result.json (an interrupted run) is removed first and the seed run afresh."""
+    ``<root>/heap/<run_name>`` when that holds a finished run, else run there; an
+    interrupted run continues from its checkpoint, a folder without one is removed first
+    and the seed run afresh."""
     folder = Path(root) / "heap" / run_name(case)
     done = finished_result(folder)
     if done is not None:
         log(f"reusing finished run {folder}")
         return done
+    if (folder / "config.toml").is_file() and (folder / "checkpoints" / "heap.npz").is_file():
+        log(f"resuming interrupted run {folder}")
+        compare_heap(case, root=root, record=record, progress=progress, resume=folder)
+        return finished_result(folder)
     if folder.exists():
         shutil.rmtree(folder)
     with named_run(folder.name):
