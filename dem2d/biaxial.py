@@ -35,6 +35,7 @@ import numpy as np
 import pymunk
 
 from analytic.errors import InvalidParameter
+from analytic.inputs import MAX_PRESSURE_KPA
 from analytic.schema import check_fields, param, seed_param
 
 from .build import Grains, add_disks, friction_split, new_space
@@ -45,6 +46,13 @@ from .sim import Sim
 from .walls import PANEL_TYPE_BASE, panel_wall
 
 RHO_WATER = 1000.0
+
+
+#: a friction coefficient beyond any grain (atan 10 = 84 deg); 1e300 ran without end
+MAX_FRICTION = 10.0
+#: 10 MPa, the theories' bound on a stress (analytic.inputs.MAX_PRESSURE_KPA): 1e15 Pa ran
+#: without end (the rigid disks' solver never met the servo target)
+MAX_CONFINING_PA = MAX_PRESSURE_KPA * 1e3
 
 
 @dataclass(frozen=True)
@@ -66,10 +74,10 @@ class BiaxialCase:
     particles_scale: float = param(1.0, lo=0.25, meaning="multiply every diameter by this (coarser grains, same "
                                                           "specimen; 1 = ~12.7k disks)")
     gs: float = param(2.65, lo=0, hi=20, lo_open=True, meaning="specific gravity of the grains, as the backfill (2.65)")
-    friction: float = param(0.5, lo=0, meaning="particle-particle coefficient during shearing")
-    prep_friction: float = param(0.25, lo=0,
+    friction: float = param(0.5, lo=0, hi=MAX_FRICTION, meaning="particle-particle coefficient during shearing")
+    prep_friction: float = param(0.25, lo=0, hi=MAX_FRICTION,
                                  meaning="particle-particle coefficient during compaction (lower = denser)")
-    confining: float = param(4000.0, unit="Pa", lo=0, lo_open=True,
+    confining: float = param(4000.0, unit="Pa", lo=0, hi=MAX_CONFINING_PA, lo_open=True,
                              meaning="confining stress sigma_3 (Khosravi: 4 kPa; also 2, 3, 5)")
     target_fraction: float = param(0.82, lo=0, hi=0.907, lo_open=True, hi_open=True,
                                    meaning="expected solid fraction after compaction (sizes the grain count)")

@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
+from analytic.inputs import MAX_PRESSURE_KPA
+
 from ..options import kpa_to_pa, number, number_list, output_file
 from ..study import Command, Option, Study
 
@@ -55,9 +57,9 @@ CALIBRATE = Command(
     options=(
         Option("--friction", "particle friction coefficients to test (0.3,0.5,0.7)", key="frictions"),
         Option("--confining", "confining stress for the friction sweep [kPa] (4)", key="case.confining",
-               parse=number("confining", 0, None, unit="kPa"), to_case=kpa_to_pa),
+               parse=number("confining", 0, MAX_PRESSURE_KPA, hi_open=False, unit="kPa"), to_case=kpa_to_pa),
         Option("--pressures", "extra confining stresses [kPa] at the calibrated friction, e.g. 2,3,5 (none)",
-               key="pressures", parse=number_list("pressures", lo=0.0, unit="kPa"),
+               key="pressures", parse=number_list("pressures", lo=0.0, hi=MAX_PRESSURE_KPA, unit="kPa"),
                to_case=lambda kpa: tuple(map(kpa_to_pa, kpa))),
         Option("--target-phi", "friction angle to calibrate for [deg] (20.7)", key="target_phi"),
         Option("--particles-scale", "multiply every grain diameter (1 = D50 1.16 mm, ~12.7k disks) (1)",

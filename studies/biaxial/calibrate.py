@@ -21,7 +21,7 @@ import numpy as np
 
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param
-from dem2d.biaxial import BiaxialCase, BiaxialTest
+from dem2d.biaxial import MAX_CONFINING_PA, MAX_FRICTION, BiaxialCase, BiaxialTest
 from dem2d.params import Solver
 from studies.progress import progress
 from studies.runfolder import RunFolder, to_plain
@@ -41,10 +41,10 @@ DEFAULT_CARDS = (DEFAULT_CARD, DEFAULT_CARD.with_name("biaxial_full.json"),
 class CalibrationPlan:
     """What ``calibrate biaxial`` runs: a friction series, then a pressure series."""
 
-    frictions: tuple[float, ...] = param((0.3, 0.5, 0.7), lo=0,
+    frictions: tuple[float, ...] = param((0.3, 0.5, 0.7), lo=0, hi=MAX_FRICTION,
                                          meaning="particle friction coefficients to test at case.confining, one "
                                                  "biaxial test each")
-    pressures: tuple[float, ...] = param((), unit="Pa", lo=0, lo_open=True, may_be_empty=True,
+    pressures: tuple[float, ...] = param((), unit="Pa", lo=0, hi=MAX_CONFINING_PA, lo_open=True, may_be_empty=True,
                                          meaning="extra confining stresses tested at the calibrated friction "
                                                  "(none by default)")
     target_phi: float = param(20.7, unit="deg", lo=0, hi=90, lo_open=True, hi_open=True,

@@ -128,8 +128,10 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
 
 def _walls(text: str) -> list[str]:
     from analytic.errors import InvalidParameter
-    words = [w.strip() for w in text.split(",") if w.strip()]
-    for w in words or [text]:
+    words = [w.strip() for w in text.split(",")]
+    if any(not w for w in words):
+        raise InvalidParameter("walls", text, "a comma list of walls of " + ", ".join(WALLS + WALLS_B), "an empty item")
+    for w in words:
         if w not in WALLS + WALLS_B:
             raise InvalidParameter("walls", w, " | ".join(WALLS + WALLS_B))
     if len(set(words)) < len(words):
@@ -141,7 +143,7 @@ def _walls(text: str) -> list[str]:
 def _seeds(text: str) -> tuple[int, ...]:
     from analytic.errors import InvalidParameter
     try:
-        seeds = tuple(int(w) for w in text.split(",") if w.strip())
+        seeds = tuple(int(w) for w in text.split(","))          # an empty item is refused, not dropped
     except ValueError:
         seeds = ()
     from analytic.schema import MAX_SEED

@@ -111,6 +111,28 @@ BAD = [
     ["sweep", "tilt", "--out", "/proc/sweeps", "--vary", "iterations=10,20"],
     ["validate", "heap", "--seeds", "0..2"],
     ["validate", "heap", "--seeds", "2.5"],
+    # a fresh set of the same kinds, tried after the schema (69 inputs; these 5 ran)
+    ["validate", "drystone", "--walls", "V1L,,V2L"],
+    ["validate", "drystone", "--backfill-seeds", "1,,2"],
+    ["calibrate", "tilt", "--set", "resolution_deg=1e-12"],      # the search time grows as 1 / resolution
+    ["calibrate", "biaxial", "--pressures", "1e12"],
+    ["calibrate", "biaxial", "--friction", "1e300"],
+    ["calibrate", "biaxial", "--confining", "1e5"],
+    ["compare", "nadukuru", "--set", "wall.segments=6.5"],
+    ["compare", "nadukuru", "--set", "seed=4294967296"],
+    ["compare", "nadukuru", "--every", "2.5"],
+    ["compare", "nadukuru", "--out", "/dev/null/runs"],
+    ["compare", "heap", "--set", "slump_time=1e5"],
+    ["compare", "heap", "--rrd", "a.rrd", "--no-rrd"],
+    ["compare", "seismic", "--set", "grain_scale=0.01"],
+    ["compare", "khosravi", "--set", "n_panels=40.5"],
+    ["compare", "drystone", "--set", "backfill.container_m=1e6"],
+    ["validate", "nadukuru", "--seeds", "1..100000"],
+    ["validate", "seismic", "--freqs", "5,,4"],
+    ["calibrate", "gravel", "--set", "seeds=1,2.5"],
+    ["calibrate", "cantilever", "--length", "5", "--thickness", "0.001"],
+    ["sweep", "heap", "--vary", "particles=1..20000"],
+    ["theory", "--plot", "/dev/full/p.png"],
 ]
 
 
