@@ -25,7 +25,7 @@ from dem2d.biaxial import MAX_CONFINING_PA, MAX_FRICTION, BiaxialCase, BiaxialTe
 from dem2d.params import Solver
 from studies.progress import progress
 from studies.runfolder import RunFolder, to_plain
-from studies.runner import open_run_folder
+from studies.runner import finish, open_run_folder
 from studies.store import atomic_write
 from studies.store import find_card_entry
 
@@ -118,11 +118,11 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
     result = _card(plan, tests, rf, mu_cal)
     result["calibrated_friction_peak"] = interpolate_friction(tests[:len(plan.frictions)], plan.target_phi,
                                                               key="phi_peak_deg")
-    rf.write_json("result.json", result)
-    rf.write_manifest(n_grains=[t["n_grains"] for t in tests], dt=plan.case.solver.dt,
-                      iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
+    finished_card = to_plain(result)          # the card holds the tests, not this run's resources
+    finish(rf, result, n_grains=[t["n_grains"] for t in tests], dt=plan.case.solver.dt,
+           iterations=plan.case.solver.iterations, frictions=list(plan.frictions))
     if card is not None:
-        atomic_write(card, (json.dumps(to_plain(result), indent=2) + "\n").encode())
+        atomic_write(card, (json.dumps(finished_card, indent=2) + "\n").encode())
         import shutil
         shutil.copy(rf.file("biaxial.png"), Path(card).with_suffix(".png"))
     return result, rf

@@ -25,12 +25,16 @@ def _default_case():
 
 def _calibrate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
+    from ..runner import finish, open_run_folder
     from .lab import calibrate_triaxial
 
+    folder = open_run_folder("triaxial", case, opts.out)      # the card is shared; the run has its folder
     with progress(opts.quiet) as bar:
         card, path = calibrate_triaxial(case, case.setup, particles=case.specimen.particles, root=Path(opts.out),
                                         progress=bar)
-    return card, f"calibration card: {path}"
+    result = dict(card) | {"card": str(path), "run_folder": str(folder.path)}
+    finish(folder, result, particles=card.get("particles"), seed=case.seed)
+    return result, f"calibration card: {path}\nrun folder: {folder.path}"
 
 
 def _text(card: dict) -> str:

@@ -172,3 +172,17 @@ def test_a_run_larger_than_the_machine_is_refused_with_its_estimate(argv, key, t
     err = capsys.readouterr().err.strip()
     assert re.search(rf"{key} = .* this machine can hold \(needs ~[\d.]+ GB; this machine has 1 GB\)$", err), err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_one_place_writes_result_json():
+    """result.json was written by finish, rewritten by the closing line, and written by
+    hand in the biaxial calibration; now runner.finish alone writes it."""
+    import ast
+    writers = []
+    for path in sorted((ROOT / "studies").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call) and any(isinstance(a, ast.Constant) and a.value == "result.json"
+                                                  for a in node.args) and \
+                    getattr(node.func, "attr", getattr(node.func, "id", "")) in ("write_json", "atomic_write"):
+                writers.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert [w.split(":")[0] for w in writers] == ["studies/runner.py"], writers
