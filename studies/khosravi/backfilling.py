@@ -21,7 +21,7 @@ import numpy as np
 from studies.progress import progress
 from studies.runner import Stopwatch, finish, open_run_folder
 from studies.runfolder import RunFolder
-from studies.store import Store
+from studies.store import Store, content_key
 from .case import KhosraviCase
 from .compare import settled_box, specimen_key
 
@@ -52,14 +52,20 @@ def write_backfilling(rf: RunFolder, layer_readings: list, panel_height: float, 
                                   title=f"During backfilling, {n_grains} disks (Khosravi Fig. 9)")
 
 
+def backfilling_name(case: KhosraviCase) -> str:
+    """The free fill's run folder name: ``backfilling-<content key of the free-fill case>``,
+    so fills of other cases (seeds run side by side on Dask) never share a folder."""
+    return f"backfilling-{content_key(free_fill_case(case))}"
+
+
 def run_backfilling(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool = False,
                     specimen_cache: bool = True) -> tuple[dict, RunFolder]:
     """Fill ``case``'s box with nothing held, reading the wall after every layer; write
-    backfilling.csv, fig09_backfilling.png and result.json in a run folder named
-    ``backfilling``. Returns (result, run folder)."""
+    backfilling.csv, fig09_backfilling.png and result.json in the run folder
+    ``backfilling_name(case)``. Returns (result, run folder)."""
     free = free_fill_case(case)
     clock, c_start = Stopwatch(), time.process_time()
-    rf = open_run_folder("khosravi", free, root, name="backfilling")
+    rf = open_run_folder("khosravi", free, root, name=backfilling_name(case))
     specimens = Store(Path(root) / "khosravi" / "_specimens") if specimen_cache else None
     with progress(quiet) as bar, clock("pluviation_s"):
         run, reused = settled_box(free, specimens, specimen_key(free), bar)

@@ -383,7 +383,7 @@ def validate_khosravi(*, out_dir: str | Path, root: str | Path = "runs", quiet: 
     Its two runs are read, not run again, when a finished run of the same case is there
     (the same command run again after an interruption): the translation in
     ``<root>/khosravi/validate-translation-<key>`` (``validation_run``), the free fill in
-    ``<root>/khosravi/backfilling`` (``backfilling_run``); after a change of the code,
+    ``<root>/khosravi/backfilling-<key>`` (``backfilling_run``); after a change of the code,
     remove those folders to run them again. ``log``: one line each (None: to stderr
     unless ``quiet``)."""
     from studies.khosravi.report import write_report
@@ -421,20 +421,12 @@ def validation_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool
 def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool = False,
                     log=lambda msg: None) -> tuple[dict, RunFolder]:
     """(result.json, run folder) of the free fill of ``case``'s box (``run_backfilling``,
-    whose run folder is always ``<root>/khosravi/backfilling``): read when that folder
-    holds a finished fill of this very case (its config.toml equal, field for field, to
-    the free-fill case), else run afresh, whatever the folder held removed first."""
-    import tomllib
-
-    from studies.runfolder import config_toml
-
-    from .backfilling import free_fill_case, run_backfilling
-    folder = Path(root) / "khosravi" / "backfilling"
-    try:
-        same = tomllib.loads((folder / "config.toml").read_text()) == tomllib.loads(config_toml(free_fill_case(case)))
-    except (OSError, tomllib.TOMLDecodeError):
-        same = False
-    if same and finished_result(folder) is not None:
+    in ``<root>/khosravi/<backfilling_name(case)>``, named by the free-fill case's content
+    key): read when that folder holds a finished fill, else run afresh, whatever the
+    folder held removed first."""
+    from .backfilling import backfilling_name, run_backfilling
+    folder = Path(root) / "khosravi" / backfilling_name(case)
+    if finished_result(folder) is not None:
         log(f"reusing finished run {folder}")
     else:
         if folder.exists():
