@@ -12,8 +12,10 @@ $(STAMP): pyproject.toml scripts/make_venv.sh
 demo: $(STAMP)
 	$(VENV)/bin/wallsim compare nadukuru --mode T --wall rough --particles 3000
 
-# one pytest worker per core, a test file per worker at a time (module fixtures built once)
+# the declared Python floor first (every tracked file compiles with it), then one pytest
+# worker per core, a test file per worker at a time (module fixtures built once)
 test: $(STAMP)
+	./scripts/check_python_floor.sh
 	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile
 
 .PHONY: demo test
