@@ -376,7 +376,7 @@ class _Renamed(argparse.Action):
 
 def _add_study_command(sub, study, cmd) -> None:
     """``wallsim <verb> <study>`` with the command's options and the ones every run shares."""
-    from studies.options import output_folder, scheduler_address
+    from studies.options import output_folder
 
     p = _verb_group(sub, cmd.verb).add_parser(study.name, help=cmd.help, description=cmd.description)
     for opt in cmd.options:

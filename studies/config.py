@@ -9,7 +9,6 @@ into the run folder. Unknown keys and values of the wrong type raise
 from __future__ import annotations
 
 import dataclasses
-import math
 import tomllib
 import typing
 from pathlib import Path

@@ -17,7 +17,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
 
-import numpy as np
 
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param

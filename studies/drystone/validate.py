@@ -24,7 +24,7 @@ import reproducibility
 from ..runfolder import git_revision, package_versions, to_plain
 from ..runner import finished_result
 from ..store import atomic_write, content_key
-from .case import GEOMETRIES, DrystoneCase, assumptions, reference
+from .case import GEOMETRIES, DrystoneCase, reference
 from .run import RIGID_NOTE, limit_equilibrium, run_dem, wall_result
 
 CONVERGENCE_LIMIT_PERCENT = 2.0      # issue 23: < 2 % change in critical height, never the mode

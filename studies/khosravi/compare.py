@@ -14,7 +14,6 @@ continue alike.
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 import shutil

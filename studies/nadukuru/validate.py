@@ -27,7 +27,7 @@ import numpy as np
 
 import reproducibility
 
-from .model import G, MODES, Movement, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
+from .model import G, MODES, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
     rough_or_smooth, theory_rows
 from ..config import with_current_names
 from ..runfolder import package_versions, git_revision, to_plain
