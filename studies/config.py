@@ -10,11 +10,10 @@ from __future__ import annotations
 
 import dataclasses
 import tomllib
-import typing
 from pathlib import Path
 
 from analytic.errors import InvalidParameter
-from analytic.schema import Spec, check_value, item_type, spec_of, split_optional, valid_text
+from analytic.schema import Spec, check_value, field_type, item_type, spec_of, split_optional, valid_text
 
 
 #: names used before the study layer's vocabulary (docs/architecture.md, glossary): a
@@ -44,11 +43,6 @@ def with_current_names(obj):
     if isinstance(obj, list):
         return [with_current_names(v) for v in obj]
     return obj
-
-
-def _field_types(cls) -> dict[str, object]:
-    hints = typing.get_type_hints(cls)
-    return {f.name: hints[f.name] for f in dataclasses.fields(cls)}
 
 
 def _field_specs(cls) -> dict[str, Spec | None]:
@@ -172,7 +166,7 @@ def apply_overrides(case, items) -> object:
         for part in path:
             node = getattr(node, part)
         label = shown[0] if shown else key          # a flag's error names the flag
-        value = _coerce(label, raw, _field_types(type(node))[name], _field_specs(type(node))[name])
+        value = _coerce(label, raw, field_type(type(node), name), _field_specs(type(node))[name])
         changes.setdefault(tuple(path), {})[name] = (label, value)
     return _rebuilt(case, (), changes)
 
@@ -295,7 +289,7 @@ def describe_keys(case, prefix: str = "") -> list[KeyInfo]:
             rows += describe_keys(value, prefix + f.name + ".")
             continue
         spec = spec_of(f)
-        typ = _field_types(cls)[f.name]
+        typ = field_type(cls, f.name)
         rows.append(KeyInfo(prefix + f.name, value, spec.unit if spec else "?", valid_text(typ, spec),
                             spec.meaning if spec else ""))
     return rows
