@@ -131,8 +131,9 @@ _options: ContextVar[dict | None] = ContextVar("wallsim_run_options", default=No
 
 @contextmanager
 def recorded_options(options: dict):
-    """Within this block a new run folder keeps ``options`` in run_options.json."""
-    token = _options.set(options)
+    """Within this block a new run folder keeps ``options`` in run_options.json, over
+    those of an enclosing block (a sweep's point keeps the sweep's and the study's)."""
+    token = _options.set({**(_options.get() or {}), **options})
     try:
         yield
     finally:
@@ -218,6 +219,15 @@ class _Lap:
 
     def __exit__(self, *exc):
         self.watch.seconds[self.stage] = time.perf_counter() - self.t
+
+
+def drop_checkpoint(run_dir: str | Path, name: str) -> None:
+    """Remove a finished run's checkpoint ``name`` (e.g. "checkpoints/shake.npz") and its
+    folder when nothing else is left in it: a run with its result has nothing to resume."""
+    path = Path(run_dir) / name
+    path.unlink(missing_ok=True)
+    if path.parent.is_dir() and not any(path.parent.iterdir()):
+        path.parent.rmdir()
 
 
 def finished_result(run_dir: str | Path) -> dict | None:

@@ -15,7 +15,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..runner import Stopwatch, finish, open_recording, open_run_folder
+from ..runner import Stopwatch, drop_checkpoint, finish, open_recording, open_run_folder
 from ..store import atomic_write, load_npz, npz_bytes
 from .model import G, HeapCase, HeapRun, bin_centres, centre_over_peak, run_heap
 
@@ -80,18 +80,11 @@ def compare_heap(case: HeapCase, *, root: Path = Path("runs"), rrd: Path | None 
     result = _result(case, run, norm, folder)
     result["wall_time_s"] = clock.total + run.before_resume_s[0]
     result["cpu_time_s"] = cpu_seconds() - cpu0 + run.before_resume_s[1]
-    _drop_checkpoints(folder.path)                      # finished: nothing to resume
+    drop_checkpoint(folder.path, CHECKPOINT)                      # finished: nothing to resume
     finish(folder, result, particles=run.spheres, dt=run.dt, contact=result["provenance"]["contact"],
            wall_time_s=result["wall_time_s"], cpu_time_s=result["cpu_time_s"])
     return result, folder.path
 
-
-def _drop_checkpoints(run: Path) -> None:
-    """Remove the run's checkpoint and its folder once the run has its result."""
-    (run / CHECKPOINT).unlink(missing_ok=True)
-    folder = (run / CHECKPOINT).parent
-    if folder.is_dir() and not any(folder.iterdir()):
-        folder.rmdir()
 
 
 def _write_tables(folder, case: HeapCase, run: HeapRun, norm: float) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..measures import dem_profile
 from ..store import find_card_entry
-from ..runner import Stopwatch, finish, open_recording, open_run_folder
+from ..runner import Stopwatch, drop_checkpoint, finish, open_recording, open_run_folder
 from .model import G, MODE_TITLES, NadukuruCase, load_or_prepare, paper_values, run_modes, theory_rows
 
 
@@ -87,17 +87,11 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     result["timings"] = {"movement_s": movement_s, "recording_s": recorder.seconds,
                          "recording_share_of_movement": recorder.seconds / movement_s,
                          "rrd_MB": rrd_path.stat().st_size / 1e6 if record and rrd_path.exists() else None}
-    _drop_checkpoints(folder.path / "checkpoints")                      # finished: nothing to resume
+    drop_checkpoint(folder.path, "checkpoints/movement.npz")                      # finished: nothing to resume
     finish(folder, result, particles=spec.n_spheres, dt=spec.dt, contact=result["provenance"]["contact"],
            wall_time_s=result["wall_time_s"])
     return result, folder.path
 
-
-def _drop_checkpoints(folder: Path) -> None:
-    """Remove the movement checkpoint and its folder once the run has its result."""
-    (folder / "movement.npz").unlink(missing_ok=True)
-    if folder.is_dir() and not any(folder.iterdir()):
-        folder.rmdir()
 
 
 def _move_and_record(case: NadukuruCase, spec, cmp: Comparison, recorder, every: int, progress,

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..runner import Stopwatch, finish, open_run_folder
+from ..runner import Stopwatch, drop_checkpoint, finish, open_run_folder
 from ..store import atomic_write, load_npz, npz_bytes
 from .case import SeismicCase
 from .measures import (STRAIN_CELL_GRAINS, STRAIN_MIN_GRAINS, STRAIN_TIMES, mononobe_okabe_overlay, period_mean,
@@ -205,18 +205,11 @@ def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log
     _figures(folder, case, shaken, series, porosity, settlement_table(case, prepared, shaken), maps,
              result["max_shear_strain"]["skipped_s"])
     result |= {"wall_time_s": clock.total, "stage_seconds": clock.seconds, "run_folder": str(folder.path)}
-    _drop_checkpoints(folder.path)                     # finished: nothing to resume
+    drop_checkpoint(folder.path, CHECKPOINT)                     # finished: nothing to resume
     finish(folder, result, particles=result["particles"], seed=case.seed, dt_s=result["dt_s"],
            steps=shaken.steps, wall_time_s=clock.total)
     return result, folder.path
 
-
-def _drop_checkpoints(run: Path) -> None:
-    """Remove the shaking's checkpoint and its folder once the run has its result."""
-    (run / CHECKPOINT).unlink(missing_ok=True)
-    folder = (run / CHECKPOINT).parent
-    if folder.is_dir() and not any(folder.iterdir()):
-        folder.rmdir()
 
 
 class _Recording:
