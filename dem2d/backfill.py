@@ -48,17 +48,20 @@ toe, y up (as ``blocks``).
 from __future__ import annotations
 
 import math
+import pickle
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import pymunk
+from pymunk._chipmunk_cffi import lib
 
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
 from .blocks import (BLOCK_TYPE, FOUNDATION_TYPE, G, BlockSolver, BlockWall, LoadingPlan, Masonry,
-                     _window_energy, section_polygon)
+                     _window_energy, new_block_space, pair_friction, section_polygon)
+from .contact_cache import touching_contacts, warm_start
 from .gravel import FILL_TYPE, Gravel, add_grains, grain_area
 
 CONTAINER_TYPE = 24
@@ -166,6 +169,61 @@ class BackfilledWall:
         wall.advance(0.1)
         self.x_start = wall.positions()
         self.backfill_height_m = self.y_floor
+        return self
+
+    # ------------------------------------------------------------------ snapshots
+    def snapshot(self) -> bytes:
+        """Bytes that ``restored`` turns back into this wall and its fill between stages:
+        every body and shape (in the space's insertion order), the state of the wall and
+        of the fill (random generator, held grains, counters) and the impulses of every
+        touching contact (``contact_cache``)."""
+        space = self.wall.space
+        shapes = list(space.shapes)
+        payload = {"format": "wallsim-dem2d-backfilled-wall-1",
+                   "wall": {k: v for k, v in self.wall.__dict__.items() if k != "space"},
+                   "fill": {k: v for k, v in self.__dict__.items() if k != "wall"},
+                   "bodies": list(space.bodies), "shapes": shapes,
+                   "on_static": [s.body is space.static_body for s in shapes],
+                   # contact points are matched by feature hashes built from the shapes' ids
+                   "hashids": [s._hashid for s in shapes], "next_hashid": lib.cpSpaceGetShapeIDCounter(space._space),
+                   "contacts": touching_contacts(space, shapes)}
+        return pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL)
+
+    @classmethod
+    def restored(cls, blob: bytes) -> "BackfilledWall":
+        """The wall and fill ``snapshot`` saved, in a fresh space built as ``build`` builds
+        one (solver, friction handlers, spatial hash), bodies and shapes added in their
+        saved order, the contacts warm-started: a deterministic function of the bytes,
+        so every run that goes on from them goes on alike. Each shape keeps the id it
+        had (Chipmunk builds the contact points' hashes from it)."""
+        payload = pickle.loads(blob)
+        if not isinstance(payload, dict) or payload.get("format") != "wallsim-dem2d-backfilled-wall-1":
+            raise TypeError("not a backfilled-wall snapshot")
+        w = payload["wall"]
+        masonry, solver = w["masonry"], w["solver"]
+        space = new_block_space(solver)
+        if masonry.friction_handler:            # as BlockWall.build registers them
+            mu_f = masonry.friction_deg if masonry.foundation_friction_deg is None \
+                else masonry.foundation_friction_deg
+            pair_friction(space, {(BLOCK_TYPE, BLOCK_TYPE): math.tan(math.radians(masonry.friction_deg)),
+                                   (BLOCK_TYPE, FOUNDATION_TYPE): math.tan(math.radians(mu_f))}, handler=True)
+        wall = BlockWall.__new__(BlockWall)
+        wall.__dict__.update(w, space=space)
+        self = cls.__new__(cls)
+        self.__dict__.update(payload["fill"], wall=wall)
+        g = self.gravel
+        space.use_spatial_hash(1.05 * g.aspect_ratio * g.width_max_m, 20000)
+        self._frictions(masonry)
+        shapes = payload["shapes"]
+        for shape, static in zip(shapes, payload["on_static"]):
+            if static:
+                shape.body = space.static_body
+        space.add(*payload["bodies"])
+        for shape, hashid in zip(shapes, payload["hashids"]):
+            lib.cpSpaceSetShapeIDCounter(space._space, hashid)    # each shape keeps its id
+            space.add(shape)
+        lib.cpSpaceSetShapeIDCounter(space._space, payload["next_hashid"])
+        warm_start(space, shapes, payload["contacts"], solver.dt)
         return self
 
     # ------------------------------------------------------------------ geometry

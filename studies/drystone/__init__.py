@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import RECORDING, output_folder
+from ..options import RECORDING, RESUME, output_folder
 from ..study import Command, Option, Study
 from .case import DIRECTIONS, GEOMETRIES, WALLS, WALLS_B
 
@@ -33,6 +33,10 @@ def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
 
     if case.case_b:
         return _compare_b(case, opts)
+    if opts.resume:
+        from analytic.errors import InvalidParameter
+        raise InvalidParameter("--resume", opts.resume, "a case-B run folder (--wall C2S, C3S or C4L)",
+                               "a case-A run takes minutes and starts again instead")
 
     with progress(opts.quiet) as bar:
         task = bar.add_task(f"{case.wall}: water raised (% of h)", total=100)
@@ -52,16 +56,26 @@ def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..runner import closing_line
     from .run_b import compare_backfill
 
+    from ..runner import recorded_options, saved_options
+
     top = case.section().height_m + case.backfill.formwork_m
-    with progress(opts.quiet) as bar:
+    kept = {"rrd": opts.rrd if isinstance(opts.rrd, str) else None, "no_rrd": opts.no_rrd}
+    root = Path(opts.out)
+    if opts.resume:
+        # a resume runs where the run started and records as it did: the saved options
+        # win over today's defaults
+        root = Path(opts.resume).resolve().parents[1]
+        kept |= saved_options(opts.resume)
+    with progress(opts.quiet) as bar, recorded_options(kept):
         task = bar.add_task(f"{case.wall}: backfill height (% of h + formwork)", total=100)
 
         def tick(hb, crest, r):
             bar.update(task, completed=100 * hb / top,
                        status=f"H_b {hb:.2f} m, crest {crest * 1e3:.2f} mm, {r['grains']} grains ({r['held']} held), "
                               f"{r['steps']} steps, stage CPU {sum(r.get(f'cpu_{k}_s', 0.0) for k in _PHASES):.0f} s")
-        result, folder = compare_backfill(case, root=Path(opts.out), rrd=opts.rrd if isinstance(opts.rrd, str) else None,
-                                          record=not opts.no_rrd, spawn=opts.spawn, progress=tick)
+        result, folder = compare_backfill(case, root=root, rrd=kept["rrd"], record=not kept["no_rrd"],
+                                          spawn=opts.spawn, progress=tick,
+                                          resume=Path(opts.resume) if opts.resume else None)
     return result, closing_line(result, folder)
 
 
@@ -169,12 +183,13 @@ COMPARE = Command(
     description="Case A: courses of 0.30 x 0.125 m rigid blocks with staggered joints, first course fixed, water "
                 "raised by 1 % of h per increment until the wall fails. Case B: 0.33 x 0.12 m blocks, first course "
                 "free, gravel (rounded hexagons) placed in 10 cm stages with the slope re-cut to 32 deg until the wall fails "
-                "(an hour or more of CPU at full size). DEM beside the limit equilibrium and the site value. "
+                "(an hour or more of CPU at full size; an interrupted case-B run goes on with --resume RUN_DIR from its "
+                "last stage, to the same bits). DEM beside the limit equilibrium and the site value. "
                 "Example: wallsim compare drystone --wall V3L --geometry disk-count",
     default_case=_default_case, run=_compare, text=_compare_text, seed_key=None,
     options=(Option("--wall", "V1L | V2L | V3L | V4L | V5S (case A, water) | C2S | C3S | C4L (case B, "
                     "backfill) (V1L)", key="wall", choices=WALLS + WALLS_B),
-             *_CASE_OPTIONS, *RECORDING[:3]))
+             *_CASE_OPTIONS, *RECORDING[:3], RESUME))
 
 VALIDATE = Command(
     verb="validate", help="case A: the five walls, convergence and bands (minutes); case B: three walls x two "

@@ -6,6 +6,7 @@ equilibrium (``analytic.drystone.backfill_limit_equilibrium``), and its run fold
 from __future__ import annotations
 
 import math
+import pickle
 import time
 from pathlib import Path
 
@@ -50,23 +51,34 @@ def coulomb_rows(case: DrystoneCase, y_floor: float, heights: list[float], delta
             for h in heights]
 
 
-def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None) -> dict:
+def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None, checkpoint=None,
+                 resume: bytes | None = None) -> dict:
     """Fill until the wall fails or the next stage would pass ``max_height_m`` (no files).
-    ``on_stage(bw, reading)`` after each stage. Returns the DEM part of the result and
-    the objects the figures need."""
+    ``on_stage(bw, reading)`` after each stage. After every stage but the last the wall
+    and its fill go on from their own snapshot (``BackfilledWall.snapshot``), handed to
+    ``checkpoint(bytes)`` first; ``resume`` (such bytes) continues from one, to the bits
+    of the run that was not interrupted. Returns the DEM part of the result and the
+    objects the figures need."""
     from dem2d.backfill import BackfilledWall
     from dem2d.blocks import BlockSolver, LoadingPlan, classify_mechanism
 
     s, bf = case.section(), case.backfill
     t0, c0 = time.perf_counter(), time.process_time()
-    loading = LoadingPlan(failure_energy_J_m=0.1, failure_readings=10, equilibrium_energy_J_m=1e-5)
-    bw = BackfilledWall.build(s, masonry(case), bf.gravel(), bf.plan(),
-                              BlockSolver(dt=case.dt, iterations=bf.iterations), loading, seed=bf.seed)
-    cpu_build = time.process_time() - c0
+    if resume is None:
+        loading = LoadingPlan(failure_energy_J_m=0.1, failure_readings=10, equilibrium_energy_J_m=1e-5)
+        bw = BackfilledWall.build(s, masonry(case), bf.gravel(), bf.plan(),
+                                  BlockSolver(dt=case.dt, iterations=bf.iterations), loading, seed=bf.seed)
+        cpu_build = time.process_time() - c0
+        stages, body_steps = [], 0
+        x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
+    else:
+        saved = pickle.loads(resume)
+        bw = BackfilledWall.restored(saved["wall"])
+        cpu_build, stages, body_steps = saved["cpu_build_s"], saved["stages"], saved["body_steps"]
+        x_ref, a_ref, out_ref = saved["reference"]
     stop = bf.max_height_m if bf.max_height_m is not None else s.height_m + bf.formwork_m
-    stages, body_steps = [], 0
-    x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
-    while not bw.failed and bw.backfill_height_m + bf.layer_m <= stop + 1e-9:
+    more = lambda: not bw.failed and bw.backfill_height_m + bf.layer_m <= stop + 1e-9  # noqa: E731
+    while more():
         if stages and stages[-1]["settled"]:
             x_ref, a_ref, out_ref = bw.wall.positions(), bw.wall.angles(), bw.wall.world_outlines()
         s0 = bw.wall.steps
@@ -76,6 +88,13 @@ def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None) -> dict:
         stages.append(dict(r))
         if on_stage is not None:
             on_stage(bw, r)
+        if more():
+            blob = pickle.dumps({"wall": bw.snapshot(), "stages": stages, "body_steps": body_steps,
+                                 "reference": (x_ref, a_ref, out_ref), "cpu_build_s": cpu_build},
+                                protocol=pickle.HIGHEST_PROTOCOL)
+            if checkpoint is not None:
+                checkpoint(blob)
+            bw = BackfilledWall.restored(pickle.loads(blob)["wall"])
     mech = classify_mechanism(s, case.block_height, bw.wall.course, bw.wall.dynamic, x_ref, a_ref,
                               bw.wall.positions(), bw.wall.angles()) if bw.failed else None
     cpu = time.process_time() - c0
@@ -194,16 +213,28 @@ def _backfill_frame(rec, bw, reading: dict | None = None, *, at_failure: bool = 
                             block_velocities=w.velocities() if at_failure else None, metrics=metrics)
 
 
+#: the fill's snapshot in the run folder while the run goes on (``run_backfill``)
+CHECKPOINT = "checkpoints/backfill.pkl"
+
+
 def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, record: bool = True,
-                     spawn: bool = False, progress=None) -> tuple[dict, Path]:
+                     spawn: bool = False, progress=None, resume: Path | None = None) -> tuple[dict, Path]:
     """``wallsim compare drystone --wall C2S|C3S|C4L``: one wall filled to failure, its run
-    folder written (and the recording: a frame per stage, the last with block velocities)."""
+    folder written (and the recording: a frame per stage, the last with block velocities).
+    After every stage the fill's snapshot is kept in the run folder (``CHECKPOINT``);
+    ``resume`` (an interrupted run's folder, ``case`` its config) goes on from it, or
+    from the start when there is none, and ends as the uninterrupted run, bit for bit;
+    its recording (the stages after the resume) goes to recording-resumed.rrd."""
     from viz.recorder import drystone_backfill_blueprint
 
-    from ..runner import finish, open_recording, open_run_folder
+    from ..runner import drop_checkpoint, finish, open_recording, open_run_folder
+    from ..store import atomic_write
 
-    folder = open_run_folder("drystone", case, root, seed=case.backfill.seed)
-    path = Path(rrd) if rrd else (folder.file("recording.rrd") if record else None)
+    folder = open_run_folder("drystone", case, root, seed=case.backfill.seed, resume=resume)
+    saved = folder.path / CHECKPOINT
+    state = saved.read_bytes() if resume is not None and saved.is_file() else None
+    default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
+    path = Path(rrd) if rrd else (folder.file(default_rrd) if record else None)
     rec = open_recording(path, study="drystone", recording_id=f"drystone-{case.wall}-seed{case.backfill.seed}", dim=2,
                          blueprint=drystone_backfill_blueprint(), spawn=spawn)
     rec.log_case("\n".join([f"# {case.wall} under gravel backfill, seed {case.backfill.seed}", "", RIGID_NOTE, "",
@@ -215,14 +246,18 @@ def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, 
         if progress is not None:
             progress(r["backfill_height_m"], r["crest_displacement_m"], r)
 
-    run = run_backfill(case, on_stage=on_stage)
-    if rec.rec is not None and run["stages"]:
-        _backfill_frame(rec, run["bw"], run["stages"][-1], at_failure=True)
-    rec.close()
+    try:
+        run = run_backfill(case, on_stage=on_stage, checkpoint=lambda blob: atomic_write(folder.file(CHECKPOINT), blob),
+                           resume=state)
+        if rec.rec is not None and run["stages"]:
+            _backfill_frame(rec, run["bw"], run["stages"][-1], at_failure=True)
+    finally:
+        rec.close()
     result = backfill_result(case, run) | {"run_folder": str(folder.path)}
     if path is not None:
         result["recording"] = str(path)
     write_outputs_b(folder, case, result, run)
+    drop_checkpoint(folder.path, CHECKPOINT)                 # finished: nothing to resume
     finish(folder, result, particles=result["particles"], seed=case.backfill.seed, steps=run["speed"]["steps"],
            dt_s=case.dt, iterations=case.backfill.iterations, local_values=result["local_values"],
            wall_time_s=run["wall_time_s"], cpu_time_s=run["cpu_time_s"], assumptions=result["assumptions"])

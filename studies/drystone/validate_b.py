@@ -34,13 +34,14 @@ def _config(case: DrystoneCase) -> dict:
     return tomllib.loads(config_toml(case))
 
 
-def finished_run(case: DrystoneCase, root: Path) -> Path | None:
+def finished_run(case: DrystoneCase, root: Path, *, holding: str = "result.json") -> Path | None:
     """The newest run folder under ``root``/drystone holding a finished run of exactly
-    ``case`` (same resolved settings, seed included), else None."""
+    ``case`` (same resolved settings, seed included), else None; ``holding``: the file
+    that marks the run wanted (``run_b.CHECKPOINT``: an interrupted one)."""
     want = _config(case)
     for folder in sorted((root / "drystone").glob("*"), reverse=True):
-        cfg, res = folder / "config.toml", folder / "result.json"
-        if cfg.is_file() and res.is_file():
+        cfg, res = folder / "config.toml", folder / holding
+        if cfg.is_file() and res.is_file() and (holding == "result.json" or not (folder / "result.json").is_file()):
             try:
                 if tomllib.loads(cfg.read_text()) == want:
                     return folder
@@ -53,14 +54,19 @@ def run_wall(case: DrystoneCase, root: Path, log=None, run_missing: bool = True)
     """(result, manifest, folder) of one wall and seed: read from its finished run folder
     or run now (``run_b.compare_backfill``, with its recording); None when it has no finished
     run and ``run_missing`` is False."""
-    from .run_b import compare_backfill
+    from .run_b import CHECKPOINT, compare_backfill
     folder = finished_run(case, root)
     tag = f"{case.wall} seed {case.backfill.seed}"
     if folder is None and not run_missing:
         if log:
             log(f"{tag}: no finished run under {root}: reported as not run")
         return None
-    if folder is None:
+    interrupted = finished_run(case, root, holding=CHECKPOINT) if folder is None else None
+    if interrupted is not None:
+        if log:
+            log(f"{tag}: resuming the interrupted run in {interrupted}")
+        _, folder = compare_backfill(case, root=root, record=True, resume=interrupted)
+    elif folder is None:
         if log:
             log(f"{tag}: running (35-65 min of one core at full size)")
         _, folder = compare_backfill(case, root=root, record=True)
