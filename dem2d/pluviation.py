@@ -222,8 +222,8 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
             if surf - floor > 4 * p.layer_thickness / 2:
                 frac = min(max(deposited_area / (width * (surf - floor)), 0.5), 0.9)
             goal = min(layer * p.layer_thickness, height)
-            if layer < n_layers and goal <= surf - floor:
-                continue  # resumed from a checkpoint: this layer is already there
+            if layer <= sim.meta.get("fill_layers_done", 0):
+                continue  # continued from a snapshot taken after this layer: it is there
             area_needed = (goal - max(surf - floor, 0.0)) * width * frac
             n = max(int(round(area_needed / grading.mean_area())), 0)
             last = layer == n_layers
@@ -273,6 +273,8 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
                 surf = surface_height(st.position, sim.grains.circle_radius,
                                       np.linalg.norm(st.velocity, axis=1) < 0.05, x0, x1)
                 done = settled or elapsed >= limit
+                if done:
+                    sim.meta["fill_layers_done"] = layer   # a snapshot taken now goes on at the next
                 yield LayerStatus(layer, n_layers, len(sim.grains), surf, ratio, ke, settled, done, balance)
                 if done:
                     break
@@ -281,3 +283,5 @@ def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: f
         if sim.solver.dt != solver.dt:
             sim.set_solver(solver)
         sim.meta.pop("fill_solver", None)
+        if sim.meta.get("fill_layers_done", 0) >= n_layers:
+            sim.meta.pop("fill_layers_done")

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import output_file, output_folder
+from ..options import RESUME, output_file, output_folder
 from ..report import reduced_size_line
 from ..runner import closing_line
 from ..study import Command, Option, Study
@@ -34,9 +34,19 @@ def _validation_case():
 
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
+    from ..runner import recorded_options, saved_options
     from .compare import compare_khosravi
-    result, rf = compare_khosravi(case, root=opts.out, rrd=opts.rrd, quiet=opts.quiet,
-                                  specimen_cache=not opts.no_cache)
+
+    kept = {"rrd": opts.rrd, "no_cache": opts.no_cache}
+    root = Path(opts.out)
+    if opts.resume:
+        # a resume runs where the run started (its specimen store is under that root) and
+        # records and caches as it did: the saved options win over today's defaults
+        root = Path(opts.resume).resolve().parents[1]
+        kept |= saved_options(opts.resume)
+    with recorded_options(kept):
+        result, rf = compare_khosravi(case, root=root, rrd=kept["rrd"], quiet=opts.quiet,
+                                      specimen_cache=not kept["no_cache"], resume=opts.resume)
     return result, closing_line(result, rf.path)
 
 
@@ -96,6 +106,8 @@ _SCALE = Option("--particles-scale", "multiply every grain diameter (1 = D50 1.1
 COMPARE = Command(
     verb="compare", help="Khosravi et al.'s box: pluviation, at rest, translation to Dis/H = 0.003",
     description="2D disks (pymunk) in a 220 x 400 mm box, rough wall of 40 pressure cells. "
+                "An interrupted run goes on with --resume RUN_DIR, from its last snapshot (the fill every "
+                "checkpoint_layers layers, the translation every checkpoint_readings readings), to the same bits. "
                 "Example: wallsim compare khosravi --H 0.3 --particles-scale 2 --rrd",
     default_case=_default_case, run=_compare, text=_compare_text, scale_note=lambda case, result: scale_note(case, result),
     footprint=_footprint,
@@ -103,7 +115,7 @@ COMPARE = Command(
              Option("--rrd", "write a recording (disks, walls, force chains): recording.rrd in the run folder, "
                              "or FILE (off by default)", metavar="FILE", parse=output_file("rrd", (".rrd",)),
                     optional=True),
-             Option("--no-cache", "do not reuse or keep the settled specimen", switch=True)))
+             Option("--no-cache", "do not reuse or keep the settled specimen", switch=True), RESUME))
 
 VALIDATE = Command(
     verb="validate", help="full-size Khosravi case -> docs/validation/khosravi.{json,md} + figures",

@@ -125,6 +125,15 @@ class KhosraviCase:
                                            meaning="sweeps a step from the at-rest settling on (readings and "
                                                    "translation); none = solver.iterations")
     pluviation: Pluviation = field(default_factory=lambda: HELD_LAYERS)
+    # pymunk cannot restore a space to the bits it had (its contact cache and spatial index
+    # are rebuilt), so a run that may be interrupted goes on from its own snapshot at
+    # fixed marks, and a resumed run, starting from the same bytes, is the same run
+    checkpoint_layers: int = param(3, lo=1, hi=10_000,
+                                   meaning="every this many layers the fill is snapshotted and goes on from the "
+                                           "snapshot (an interrupted fill resumes there; part of the run's result)")
+    checkpoint_readings: int = param(10, lo=1, hi=100_000,
+                                     meaning="every this many readings the translation is snapshotted and goes on "
+                                             "from the snapshot (an interrupted run resumes there)")
 
     def __post_init__(self):
         check_fields(self)

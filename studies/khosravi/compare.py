@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import math
+import pickle
 import shutil
 import time
 from pathlib import Path
@@ -34,15 +35,15 @@ from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.report import theory_row
 from studies.runfolder import RunFolder, package_versions, to_plain
-from studies.runner import Stopwatch, finish, finished_result, open_recording, open_run_folder
-from studies.store import Store, content_key
+from studies.runner import Stopwatch, drop_checkpoint, finish, finished_result, open_recording, open_run_folder
+from studies.store import Store, atomic_write, content_key
 
 #: Khosravi et al.'s published values the report compares with (shipped with the package)
 REFERENCE = Path(__file__).resolve().parent / "reference.json"
 
 _SPECIMEN_FIELDS = ("H", "box_width", "box_height", "n_panels", "d50", "cu", "particles_scale", "gs",
                     "friction", "wall_friction", "floor_friction", "far_wall_friction", "seed",
-                    "solver", "pluviation")
+                    "solver", "pluviation", "checkpoint_layers")
 
 
 def specimen_key(case: KhosraviCase) -> str:
@@ -85,29 +86,43 @@ def theories(phi_deg: float, gamma: float, H: float) -> dict:
             "paik-salgado": paik_salgado(soil, wall), "khosravi": khosravi(soil, wall)}
 
 
+#: the translation's snapshot in the run folder while the run goes on (``_translate``)
+CHECKPOINT = "checkpoints/translation.pkl"
+
+
 def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool | str | Path = False,
                      quiet: bool = False, frames: int = 40, specimen_cache: bool = True,
                      name: str | None = None, card: Path | tuple[Path, ...] = DEFAULT_CARDS,
-                     checkpoint_layers: int = 3) -> tuple[dict, RunFolder]:
+                     resume: str | Path | None = None) -> tuple[dict, RunFolder]:
     """Pluviate (or reuse the settled specimen), read the wall at rest, translate it to
     Dis/H = case.wall_disp_over_H_max, compare with theory; write the run folder.
 
-    Checkpoints: every ``checkpoint_layers`` layers the partly filled box is written to
-    ``<key>.partial.pkl`` (an interrupted pluviation resumes from it), and the settled
-    specimen to ``<key>.pkl`` (later runs with the same key skip the pluviation).
+    Snapshots: every ``case.checkpoint_layers`` layers the fill goes on from its own
+    snapshot, kept as ``<key>.partial.pkl`` beside the specimens (an interrupted fill
+    resumes from it), and the settled specimen is kept as ``<key>.pkl`` (later runs with
+    the same key skip the pluviation); every ``case.checkpoint_readings`` readings the
+    translation goes on from its snapshot, kept in the run folder (``CHECKPOINT``).
+    ``resume``: an interrupted run's folder (``case`` its config): the run goes on from
+    its translation snapshot, or from the start of the translation's stage when it has
+    none, and ends as the uninterrupted run, bit for bit; its recording (the part after
+    the resume) goes to recording-resumed.rrd.
     ``rrd``: True for recording.rrd in the run folder, a path for elsewhere, False for none.
     Returns (result dict, run folder)."""
     clock, c_start = Stopwatch(), time.process_time()
-    rf = open_run_folder("khosravi", case, root, name=name)
+    rf = open_run_folder("khosravi", case, root, name=name, resume=resume)
     specimens, key = Store(Path(root) / "khosravi" / "_specimens"), specimen_key(case)
-    recorder = _recording(rf.file("recording.rrd") if rrd is True else Path(rrd), case) if rrd else None
+    default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
+    recorder = _recording(rf.file(default_rrd) if rrd is True else Path(rrd), case) if rrd else None
     with progress(quiet) as bar:
-        with clock("pluviation_s"):
-            run, reused = settled_box(case, specimens if specimen_cache else None, key, bar, checkpoint_layers)
-        with clock("at_rest_s"):
-            rest = run.at_rest()
+        run, reused = _started(case, rf.path / CHECKPOINT if resume is not None else None,
+                               specimens if specimen_cache else None, key, bar, clock)
+        rest = run.rest
+
+        def keep(blob: bytes) -> None:
+            atomic_write(rf.file(CHECKPOINT), pickle.dumps({"run": blob, "specimen_reused": reused}))
+
         with clock("translation_s"):
-            _translate(run, rest, recorder, bar, frames, clock)
+            run = _translate(run, rest, recorder, bar, frames, clock, keep)
         # phi of the same material, looked up (or measured) after the long part so a
         # calibration running alongside can finish first
         with clock("biaxial_s"):
@@ -123,6 +138,7 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     # wall time on a shared machine depends on the other jobs: CPU time of this process too
     result["timings_s"] = {**clock.seconds, "total": clock.total, "cpu_total": time.process_time() - c_start}
     _write_outputs(rf, run, rest, result, th)
+    drop_checkpoint(rf.path, CHECKPOINT)                     # finished: nothing to resume
     finish(rf, result, n_grains=run.backfill.n_grains, dt=case.solver.dt, iterations=case.solver.iterations,
            iterations_readings=case.reading_solver.iterations, friction=case.friction,
            wall_friction=case.material.wall_friction, specimen=result["specimen"], specimen_reused=reused,
@@ -130,22 +146,48 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     return result, rf
 
 
-def settled_box(case: KhosraviCase, specimens: Store | None, key: str, bar,
-                checkpoint_layers: int = 3) -> tuple[KhosraviRun, bool]:
+def _started(case: KhosraviCase, saved: Path | None, specimens: Store | None, key: str, bar,
+             clock: Stopwatch) -> tuple[KhosraviRun, bool]:
+    """The run read at rest, ready to translate: from the translation snapshot ``saved``
+    when there is one (a resumed run), else the settled box (``settled_box``) read at
+    rest. Returns (run, whether the specimen was a stored one)."""
+    if saved is not None and saved.is_file():
+        held = pickle.loads(saved.read_bytes())
+        return KhosraviRun.restored(case, held["run"]), held["specimen_reused"]
+    with clock("pluviation_s"):
+        run, reused = settled_box(case, specimens, key, bar)
+    with clock("at_rest_s"):
+        run.at_rest()
+    return run, reused
+
+
+def settled_box(case: KhosraviCase, specimens: Store | None, key: str, bar) -> tuple[KhosraviRun, bool]:
     """The filled box: the stored specimen if ``specimens`` holds one under ``key``,
-    else a pluviation (resumed from a mid-fill checkpoint if one is stored) that is then
-    stored. Returns (run, whether a stored specimen was reused)."""
+    else a pluviation that is then stored. Every ``case.checkpoint_layers`` layers the
+    fill goes on from its own snapshot (kept as ``<key>.partial.pkl`` when there is a
+    store), as a fill resumed from that file does: pymunk rebuilds its contact cache and
+    spatial index in a fresh space, so only a run that goes through the same snapshot
+    is the same run, bit for bit, with or without the interruption. Returns (run,
+    whether a stored specimen was reused)."""
     stored = specimens.load_bytes(key, ".pkl") if specimens is not None else None
     if stored is not None:
         return KhosraviRun(case, sim=restore(stored)), True
     partial = specimens.load_bytes(key, ".partial.pkl") if specimens is not None else None
-    run = KhosraviRun(case, sim=restore(partial) if partial is not None else None)
     task = bar.add_task("pluviation" + (" (resumed)" if partial is not None else ""), total=None, status="")
-    for s in run.fill():
-        bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
-                   status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, unbalance {s.ratio:.3f}")
-        if specimens is not None and s.done and s.layer < s.n_layers and s.layer % checkpoint_layers == 0:
-            specimens.save_bytes(key, ".partial.pkl", run.sim.snapshot())  # mid-fill, between layers
+    while True:
+        run = KhosraviRun(case, sim=restore(partial) if partial is not None else None)
+        mark = None
+        for s in run.fill():
+            bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
+                       status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, unbalance {s.ratio:.3f}")
+            if s.done and s.layer < s.n_layers and s.layer % case.checkpoint_layers == 0:
+                mark = run.sim.snapshot()       # between layers: go on from it
+                break
+        if mark is None:
+            break
+        partial = mark
+        if specimens is not None:
+            specimens.save_bytes(key, ".partial.pkl", partial)
     blob = run.sim.snapshot()
     if specimens is not None:
         specimens.save_bytes(key, ".pkl", blob)
@@ -155,23 +197,38 @@ def settled_box(case: KhosraviCase, specimens: Store | None, key: str, bar,
     return KhosraviRun(case, sim=restore(blob)), False
 
 
-def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwatch) -> None:
+def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwatch,
+               keep=lambda blob: None) -> KhosraviRun:
     """Move the wall to Dis/H = case.wall_disp_over_H_max (readings into ``run.history``),
-    logging ``frames`` scenes; notes when the paper's active reading was reached."""
+    logging ``frames`` scenes; notes when the paper's active reading was reached. Every
+    ``case.checkpoint_readings`` readings (the last aside) the run goes on from its own
+    snapshot, handed to ``keep`` first (``settled_box`` says why). Returns the run at the
+    end (a restored one when a snapshot was taken)."""
     case, bf = run.case, run.backfill
     t0 = time.perf_counter()
     n_total = int(math.ceil(case.wall_disp_over_H_max * bf.H / (case.wall_speed * case.window)))
     every = max(1, n_total // max(frames, 1))
-    task = bar.add_task("translation", total=n_total, status="")
+    task = bar.add_task("translation", total=n_total, completed=len(run.history), status="")
     z, gH = run.panel_depths(), bf.gamma * bf.H
-    _log(recorder, run, rest, z, 0.0, gH)
-    for k, r in enumerate(run.translate()):
-        bar.update(task, completed=k + 1, status=f"Dis/H {r.dis / bf.H:.5f}")
-        if "translation_to_active_s" not in clock.seconds and r.dis / bf.H >= case.wall_disp_over_H_active:
-            # the paper's movement ends here; a validation run goes on to judge steadiness
-            clock.seconds["translation_to_active_s"] = time.perf_counter() - t0
-        if recorder is not None and (k + 1) % every == 0:
-            _log(recorder, run, r, z, r.dis / bf.H, gH)
+    if not run.history:
+        _log(recorder, run, rest, z, 0.0, gH)
+    while True:
+        mark = None
+        for r in run.translate():
+            k = len(run.history)
+            bar.update(task, completed=k, status=f"Dis/H {r.dis / bf.H:.5f}")
+            if "translation_to_active_s" not in clock.seconds and r.dis / bf.H >= case.wall_disp_over_H_active:
+                # the paper's movement ends here; a validation run goes on to judge steadiness
+                clock.seconds["translation_to_active_s"] = time.perf_counter() - t0
+            if recorder is not None and k % every == 0:
+                _log(recorder, run, r, z, r.dis / bf.H, gH)
+            if k % case.checkpoint_readings == 0 and r.dis / bf.H < case.wall_disp_over_H_max:
+                mark = run.snapshot()
+                break
+        if mark is None:
+            return run
+        keep(mark)
+        run = KhosraviRun.restored(case, mark)
 
 
 def _recording(path: Path, case: KhosraviCase):
@@ -403,16 +460,19 @@ def validation_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool
     """(result.json, run folder) of ``compare_khosravi`` on ``case`` in
     ``<root>/khosravi/validate-translation-<key>`` (key: the hash of the resolved case, so
     a changed setting never reads a stale run): read when that folder holds a finished
-    run, else run there, a folder without result.json (an interrupted run) removed first
-    (the pluviation goes on from its stored checkpoint: ``settled_box``). The result is
-    read back from result.json either way, so a report is the same from a new run or
-    a finished one."""
+    run, resumed when it holds an interrupted one (from its translation snapshot, or
+    with the pluviation going on from its stored one: ``settled_box``), else run there.
+    The result is read back from result.json either way, so a report is the same from a
+    new run, a resumed one or a finished one."""
     folder = Path(root) / "khosravi" / f"validate-translation-{content_key(case)}"
     if finished_result(folder) is not None:
         log(f"reusing finished run {folder}")
+    elif (folder / "config.toml").is_file():
+        log(f"resuming interrupted run {folder}")
+        compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, resume=folder)
     else:
         if folder.exists():
-            shutil.rmtree(folder)
+            shutil.rmtree(folder)       # not even its config was written: nothing to resume
         compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, name=folder.name)
     return finished_result(folder), RunFolder.existing(folder, seed=case.seed)
 

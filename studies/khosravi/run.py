@@ -13,6 +13,7 @@ of the surface.
 
 from __future__ import annotations
 
+import pickle
 from dataclasses import dataclass, field
 from typing import Iterator, NamedTuple
 
@@ -22,7 +23,7 @@ from dem2d.frames import Frame
 from dem2d.measure import panel_stresses, readings, solid_fraction
 from dem2d.pluviation import LayerStatus, pluviate, surface_height
 from .case import KhosraviCase, build_box
-from dem2d.sim import Sim
+from dem2d.sim import Sim, restore
 from dem2d.walls import Translate
 
 G = 9.81
@@ -88,10 +89,13 @@ class KhosraviRun:
         is kept in ``backfill.layer_readings`` (Khosravi Fig. 9)."""
         c, sim = self.case, self.sim
         layer_readings = list(sim.meta.get("layer_readings", []))
-        sim.meta["layer_readings"] = layer_readings  # kept in checkpoints taken mid-fill
-        last = None
+        sim.meta["layer_readings"] = layer_readings  # kept in snapshots taken mid-fill
+        # a fill continued from a snapshot reads the layer it was taken after, as the
+        # uninterrupted fill does when the next layer's first status comes
+        last = sim.meta.get("fill_last")
         for s in pluviate(sim, c.grading, c.material, x0=0.0, x1=c.box_width, floor=0.0,
                           height=c.H, settings=c.pluviation):
+            sim.meta["fill_last"] = s
             yield s
             if last is not None and s.layer != last.layer:
                 sigma = self.reading(0.2 * c.window).sigma
@@ -101,6 +105,7 @@ class KhosraviRun:
                     sigma = np.where(w.centres()[:, 1] < last.surface - c.pluviation.hold_depth, np.nan, sigma)
                 layer_readings.append((last.layer, last.surface, sigma))
             last = s
+        sim.meta.pop("fill_last", None)
         self.backfill = self._describe(layer_readings)
         sim.meta["backfill"] = self.backfill
 
@@ -164,6 +169,24 @@ class KhosraviRun:
                     break
         finally:
             sim.drive("wall", None)
+
+    # ------------------------------------------------------------------ snapshots
+    def snapshot(self) -> bytes:
+        """Bytes that ``restored`` turns back into this run between readings: the model
+        (``Sim.snapshot``: grains, walls, contact impulses, clock, random generator), the
+        at-rest reading and the readings so far."""
+        return pickle.dumps({"format": "wallsim-khosravi-run-1", "sim": self.sim.snapshot(), "rest": self.rest,
+                             "history": self.history}, protocol=pickle.HIGHEST_PROTOCOL)
+
+    @classmethod
+    def restored(cls, case: KhosraviCase, blob: bytes) -> "KhosraviRun":
+        """The run ``snapshot`` saved, going on in a fresh space (``case``: the one it ran)."""
+        payload = pickle.loads(blob)
+        if not isinstance(payload, dict) or payload.get("format") != "wallsim-khosravi-run-1":
+            raise TypeError("not a Khosravi run snapshot")
+        run = cls(case, sim=restore(payload["sim"]))
+        run.rest, run.history = payload["rest"], list(payload["history"])
+        return run
 
     def frame(self, with_contacts: bool = True) -> Frame:
         return self.sim.frame(with_contacts)
