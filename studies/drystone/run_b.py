@@ -89,12 +89,12 @@ def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None, checkpoi
         if on_stage is not None:
             on_stage(bw, r)
         if more():
-            blob = pickle.dumps({"wall": bw.snapshot(), "stages": stages, "body_steps": body_steps,
-                                 "reference": (x_ref, a_ref, out_ref), "cpu_build_s": cpu_build},
-                                protocol=pickle.HIGHEST_PROTOCOL)
+            wall = bw.snapshot()
             if checkpoint is not None:
-                checkpoint(blob)
-            bw = BackfilledWall.restored(pickle.loads(blob)["wall"])
+                checkpoint(pickle.dumps({"wall": wall, "stages": stages, "body_steps": body_steps,
+                                         "reference": (x_ref, a_ref, out_ref), "cpu_build_s": cpu_build},
+                                        protocol=pickle.HIGHEST_PROTOCOL))
+            bw = BackfilledWall.restored(wall)
     mech = classify_mechanism(s, case.block_height, bw.wall.course, bw.wall.dynamic, x_ref, a_ref,
                               bw.wall.positions(), bw.wall.angles()) if bw.failed else None
     cpu = time.process_time() - c0
