@@ -33,6 +33,13 @@ class Frame(NamedTuple):
     block_outlines: 2D only: list of (k, 2) polygons of polygon grains/blocks, or None
     panel_moment:   3D only: (p, 3) moment of panel_force about the panel centre [N m],
                     or None
+    particle_force: (n, d) contact force on each row's sphere (3D) or body (2D) from the
+                    last step, walls included [N; N/m in 2D], or None
+    material:       (n,) material id of each row (3D: row of the engine's material
+                    table), or None (one material)
+    contact_shear:  (m,) magnitude of the tangential force of each contact [N; N/m], or None
+    contact_bonded: (m,) True where an intact parallel bond joins the contact's spheres
+                    (3D), or None (no bonds)
     """
 
     step: int
@@ -50,6 +57,10 @@ class Frame(NamedTuple):
     panel_area: np.ndarray
     block_outlines: list | None = None
     panel_moment: np.ndarray | None = None
+    particle_force: np.ndarray | None = None
+    material: np.ndarray | None = None
+    contact_shear: np.ndarray | None = None
+    contact_bonded: np.ndarray | None = None
 
 
 def panel_normal_stress(frame) -> np.ndarray:

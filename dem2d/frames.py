@@ -110,6 +110,20 @@ def grain_contacts(space: pymunk.Space, grains: Grains) -> Contacts:
     return Contacts(a[both], b[both], ff[both, 2:4], ff[both, 0:2], ff[both, 4:6])
 
 
+def contact_force_on_bodies(space: pymunk.Space, grains: Grains, dt: float) -> np.ndarray:
+    """(n,2) sum of the contact forces on each grain over the last step, walls and blocks
+    included (impulse / dt) [N/m], in creation order."""
+    a, b, count, impulse = raw_arbiters(space)
+    ids_sorted, rows = grains.id_map()
+    out = np.zeros((len(grains), 2))
+    live = count > 0
+    for ids, sign in ((a, 1.0), (b, -1.0)):
+        k = np.minimum(np.searchsorted(ids_sorted, ids), len(ids_sorted) - 1)
+        mine = live & (ids_sorted[k] == ids)
+        np.add.at(out, rows[k[mine]], sign * impulse[mine])
+    return out / dt
+
+
 def make_frame(space: pymunk.Space, grains: Grains, step: int, time: float, dt: float,
                walls: list, panel_force: np.ndarray | None = None,
                with_contacts: bool = True) -> Frame:
@@ -118,13 +132,17 @@ def make_frame(space: pymunk.Space, grains: Grains, step: int, time: float, dt: 
     st = body_state(space, grains)
     pos = circle_positions(st, grains)
     vel = st.velocity[grains.circle_body]
+    body_force = None
     if with_contacts and len(grains):
         c = grain_contacts(space, grains)
-        fn = np.abs(np.einsum("md,md->m", c.impulse, c.normal)) / dt
+        along = np.einsum("md,md->m", c.impulse, c.normal)
+        fn = np.abs(along) / dt
+        ft = np.linalg.norm(c.impulse - along[:, None] * c.normal, axis=1) / dt
         ca, cb = st.position[c.a], st.position[c.b]
+        body_force = contact_force_on_bodies(space, grains, dt)
     else:
         ca = cb = np.zeros((0, 2))
-        fn = np.zeros(0)
+        fn = ft = np.zeros(0)
     corners = np.concatenate([w.corners() for w in walls]) if walls else np.zeros((0, 2, 2))
     normals = np.concatenate([w.normals() for w in walls]) if walls else np.zeros((0, 2))
     areas = np.concatenate([w.lengths() for w in walls]) if walls else np.zeros(0)
@@ -139,4 +157,5 @@ def make_frame(space: pymunk.Space, grains: Grains, step: int, time: float, dt: 
             outlines.append(verts @ R.T + st.position[k])
     return Frame(int(step), float(time), pos, grains.circle_radius.copy(), vel,
                  grains.circle_body.copy(), ca, cb, fn, corners, normals,
-                 np.asarray(panel_force, float), areas, outlines)
+                 np.asarray(panel_force, float), areas, outlines, contact_shear=ft,
+                 particle_force=body_force[grains.circle_body] if body_force is not None else None)

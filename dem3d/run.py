@@ -18,6 +18,12 @@ from .engine import Simulation
 def contacts(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Touching sphere pairs of the last force evaluation: (i (m,), j (m,), separation
     x_j - x_i with the minimum image (m, 3) [m], normal force (m,) [N])."""
+    i, j, d, k = _touching(sim)
+    return i, j, d, sim.pairs.pf[sim.pairs.tpos[k], 6].copy()
+
+
+def _touching(sim: Simulation):
+    """(i, j, separation, pair index k) of every touching pair (engine order)."""
     prs = sim.pairs
     total = int(prs.start[-1])
     k = np.nonzero(prs.active[:total])[0]
@@ -29,14 +35,34 @@ def contacts(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nd
         ax = sim.periodic.axis
         length = sim.periodic.length
         d[:, ax] -= length * np.round(d[:, ax] / length)
-    return i, j, d, prs.pf[prs.tpos[k], 6].copy()
+    return i, j, d, k
+
+
+def _shear(force: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """(m,) magnitude of the part of each contact force (m,3) across the line of centres d (m,3)."""
+    n = d / np.maximum(np.linalg.norm(d, axis=1), 1e-300)[:, None]
+    along = np.einsum("md,md->m", force, n)
+    return np.linalg.norm(force - along[:, None] * n, axis=1)
+
+
+def _bonded(sim: Simulation, i: np.ndarray, j: np.ndarray) -> np.ndarray | None:
+    """(m,) True where an intact bond joins spheres i and j (engine order); None without bonds."""
+    b = sim.bonds
+    if b is None:
+        return None
+    n = np.int64(sim.n_spheres)
+    intact = b.state > 0
+    lo, hi = np.minimum(b.i[intact], b.j[intact]).astype(np.int64), np.maximum(b.i[intact], b.j[intact])
+    keys = lo * n + hi
+    return np.isin(np.minimum(i, j).astype(np.int64) * n + np.maximum(i, j), keys)
 
 
 def frame(sim: Simulation) -> Frame:
     """The current state as a Frame (all arrays copied). Sphere arrays are in the
     specimen's order whatever order the engine keeps internally (it re-sorts by cell for
     memory locality), so sphere k of every frame is the same grain."""
-    i, _, d, fn = contacts(sim)
+    i, j, d, k = _touching(sim)
+    pf = sim.pairs.pf[sim.pairs.tpos[k]]
     x = sim.spheres.x
     corners = sim.walls.corners()
     orig = sim.original_index
@@ -49,9 +75,11 @@ def frame(sim: Simulation) -> Frame:
     return Frame(step=int(sim.step_count), time=float(sim.time), positions=specimen_order(x),
                  radii=specimen_order(sim.spheres.r), velocities=specimen_order(sim.spheres.v),
                  body_id=specimen_order(orig[sim.spheres.body_id]), contact_a=x[i].copy(), contact_b=x[i] + d,
-                 contact_force=fn, panel_corners=corners, panel_normal=sim.walls.panels.normal.copy(),
+                 contact_force=pf[:, 6].copy(), panel_corners=corners, panel_normal=sim.walls.panels.normal.copy(),
                  panel_force=sim.panel_force.copy(), panel_moment=sim.panel_moment.copy(),
-                 panel_area=sim.walls.areas())
+                 panel_area=sim.walls.areas(), particle_force=specimen_order(sim.spheres.f),
+                 material=specimen_order(sim.spheres.mat), contact_shear=_shear(pf[:, 0:3], d),
+                 contact_bonded=_bonded(sim, i, j))
 
 
 def run(sim: Simulation, n_steps: int, every: int) -> Iterator[Frame]:

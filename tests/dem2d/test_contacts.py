@@ -143,7 +143,8 @@ def test_frame_has_the_contract_fields_for_disks_clumps_and_blocks():
     fr = make_frame(sp, g, 300, 0.03, 1e-4, [floor])
     assert Frame._fields == ("step", "time", "positions", "radii", "velocities", "body_id", "contact_a",
                              "contact_b", "contact_force", "panel_corners", "panel_normal", "panel_force",
-                             "panel_area", "block_outlines", "panel_moment")
+                             "panel_area", "block_outlines", "panel_moment", "particle_force", "material",
+                             "contact_shear", "contact_bonded")
     assert fr.panel_moment is None          # one record for both engines; 2D panels carry no moment
     assert fr.positions.shape == (4, 2) and fr.radii.shape == (4,)   # 2 disks + a clump of 2 circles
     assert list(fr.body_id) == [0, 1, 2, 2]
@@ -152,5 +153,9 @@ def test_frame_has_the_contract_fields_for_disks_clumps_and_blocks():
     assert len(fr.block_outlines) == 1 and fr.block_outlines[0].shape == (4, 2)
     assert len(fr.contact_a) == len(fr.contact_b) == len(fr.contact_force)
     assert np.all(fr.contact_force >= 0)
+    assert fr.contact_shear.shape == fr.contact_force.shape and np.all(fr.contact_shear >= 0)
+    assert fr.particle_force.shape == (4, 2) and fr.material is None and fr.contact_bonded is None
+    # a clump's two circles carry their body's force
+    assert np.array_equal(fr.particle_force[2], fr.particle_force[3])
     # the clump's circles sit at +-0.5 R from its centre along its axis
     assert np.linalg.norm(fr.positions[2] - fr.positions[3]) == pytest.approx(R, rel=1e-9)
