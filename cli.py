@@ -458,7 +458,7 @@ def _cmd_study(cmd, args) -> int:
     cmd.check_fits(case)
     if cmd.busy_note:
         _note_if_busy()
-    with cmd.envelope(case, _setting_sources(cmd, args)):
+    with cmd.envelope(case, _setting_sources(cmd, args), opts):
         result, where = cmd.run(case, opts)
     if args.json:
         from studies.runfolder import to_plain

@@ -172,3 +172,8 @@ RECORDING = (
     Option("--spawn", "also open the Rerun viewer", switch=True),
     Option("--every", "log the scene (particles, chains) every N x 500 steps (5)", parse=count("every"), default=5),
 )
+
+#: the VTK export of the DEM commands (viz/vtk.py): the frames the recording logs, also as
+#: VTK files for ParaView, whether or not a Rerun recording is written
+VTK = Option("--vtk", "also write the recorded frames as VTK files for ParaView (vtk/ in the run folder: "
+                      "particles, contacts, walls, blocks; one .pvd per kind)", switch=True)

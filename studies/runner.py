@@ -90,14 +90,18 @@ class RunInterrupted(KeyboardInterrupt):
 
 
 @contextmanager
-def command_envelope(sources: dict[str, str] | None = None, note: Callable[[dict], str | None] | None = None):
+def command_envelope(sources: dict[str, str] | None = None, note: Callable[[dict], str | None] | None = None,
+                     *, vtk: bool = False):
     """Run one command inside: a bad input or an error removes the folders it created
     that hold nothing yet; Ctrl-C becomes ``RunInterrupted`` naming the folder that
-    holds what finished (None when nothing was written)."""
+    holds what finished (None when nothing was written). ``vtk`` (``--vtk``): every run
+    folder the command opens keeps it in run_options.json, and its recording writes VTK
+    files beside the Rerun one (``open_recording``)."""
     from analytic.errors import InvalidParameter
 
     env = Envelope(sources or {}, note)
     token = _envelope.set(env)
+    options = _options.set({**(_options.get() or {}), "vtk": True}) if vtk else None
     try:
         yield env
     except KeyboardInterrupt:
@@ -107,6 +111,8 @@ def command_envelope(sources: dict[str, str] | None = None, note: Callable[[dict
         env.discard_empty()
         raise
     finally:
+        if options is not None:
+            _options.reset(options)
         _envelope.reset(token)
 
 #: the folder name a sweep gives the run in this thread (``named_run``); None: date, time, seed
@@ -155,6 +161,10 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
     seed = seed if seed is not None else getattr(case, "seed", None)
     env = _envelope.get()
     if resume is not None:
+        if (_options.get() or {}).get("vtk") and not saved_options(resume).get("vtk"):
+            from analytic.errors import InvalidParameter
+            raise InvalidParameter("--vtk", f"on the interrupted run {resume}", "the settings that run started with",
+                                   "it started without --vtk; a resumed run records as it started")
         folder = RunFolder.existing(resume, seed=seed)
     else:
         created = name is None or not (Path(root) / study / name).is_dir()
@@ -170,11 +180,24 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
 
 
 def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int, blueprint=None,
-                   spawn: bool = False):
-    """The run's Rerun recording (``path`` None and no viewer: a recorder that does nothing)."""
+                   spawn: bool = False, folder: RunFolder | Path | None = None):
+    """The run's Rerun recording (``path`` None and no viewer: none), and its VTK files in
+    ``folder``/vtk when the run was started with ``--vtk`` (its run_options.json says so,
+    so a resumed run writes them as the interrupted one did). With neither, a recorder
+    that does nothing."""
     from viz.recorder import Recorder
+    vtk = None
+    if folder is not None:
+        run_dir = Path(getattr(folder, "path", folder))
+        if saved_options(run_dir).get("vtk"):
+            from viz.vtk import VtkSeries
+            vtk = VtkSeries(run_dir / VTK_FOLDER)
     return Recorder(path, app_id=f"wallsim {study}", recording_id=recording_id, dim=dim, every=1,
-                    spawn=spawn, enabled=path is not None or spawn, blueprint=blueprint)
+                    spawn=spawn, enabled=path is not None or spawn, blueprint=blueprint, vtk=vtk)
+
+
+#: where a run's VTK files go in its folder (``--vtk``)
+VTK_FOLDER = "vtk"
 
 
 def finish(folder: RunFolder, result: dict, *, main: bool = True, **manifest) -> None:
@@ -190,6 +213,9 @@ def finish(folder: RunFolder, result: dict, *, main: bool = True, **manifest) ->
             result["scale_note"] = note
     result["resources"] = folder.resources()
     result["reproducibility"] = reproducibility.describe()
+    if (folder.path / VTK_FOLDER).is_dir():
+        from viz.vtk import summary
+        result["vtk"] = summary(folder.path / VTK_FOLDER)
     folder.note_used(used_settings(result))
     folder.write_manifest(**manifest)
     folder.write_json("result.json", result)

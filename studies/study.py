@@ -104,11 +104,12 @@ class Command:
         return resolve_case(self.default_case(), config=config, flags=flags or {}, sets=sets or [],
                             flag_names=flag_names)
 
-    def envelope(self, case, sources: dict[str, str] | None = None):
-        """The run envelope of this command on ``case`` (studies/runner.py)."""
+    def envelope(self, case, sources: dict[str, str] | None = None, opts: SimpleNamespace | None = None):
+        """The run envelope of this command on ``case`` with run options ``opts``
+        (studies/runner.py)."""
         from .runner import command_envelope
         note = (lambda result: self.scale_note(case, result)) if self.scale_note else None
-        return command_envelope(sources, note)
+        return command_envelope(sources, note, vtk=bool(getattr(opts, "vtk", False)))
 
     def check_fits(self, case) -> None:
         """Refuse, in one line naming the size key and the estimate, a case whose memory
@@ -199,8 +200,9 @@ class Study:
             case = started
         case = case if case is not None else cmd.default_case()
         cmd.check_fits(case)
-        with cmd.envelope(case):
-            result, _ = cmd.run(case, cmd.run_options(**options))
+        opts = cmd.run_options(**options)
+        with cmd.envelope(case, opts=opts):
+            result, _ = cmd.run(case, opts)
         return result
 
     def reference(self) -> dict:

@@ -118,14 +118,17 @@ def drystone_blueprint() -> rrb.Blueprint:
 
 
 def _timed(method):
-    """Add the method's wall time to ``self.seconds`` (the cost of recording, reported per run)."""
+    """Add the method's wall time to ``self.seconds`` (the cost of the Rerun recording,
+    reported per run; the VTK files count their own, ``vtk.seconds``)."""
     @functools.wraps(method)
     def wrapper(self, *args, **kwargs):
         t0 = time.perf_counter()
+        v0 = self.vtk.seconds if self.vtk is not None else 0.0
         try:
             return method(self, *args, **kwargs)
         finally:
-            self.seconds += time.perf_counter() - t0
+            v1 = self.vtk.seconds if self.vtk is not None else 0.0
+            self.seconds += time.perf_counter() - t0 - (v1 - v0)
     return wrapper
 
 
@@ -136,15 +139,19 @@ class Recorder:
     dim:         2 or 3 (the scene's dimension)
     every:       log the scene every N-th ``log_frame`` call (metrics are kept for all)
     spawn:       also open the native viewer (never in CI)
-    enabled:     False makes every call a no-op (``--no-rrd``)
+    enabled:     False: no Rerun recording (``--no-rrd``); ``self.enabled`` is then True
+                 only when ``vtk`` is given
     flush_every: flush the sink every N scene frames so memory stays flat
+    vtk:         also write every scene frame as VTK files (``viz.vtk.VtkSeries``, ``--vtk``)
     """
 
     def __init__(self, path: str | Path | None, *, app_id: str = "wallsim", recording_id: str | None = None,
                  dim: int = 3, every: int = 1, spawn: bool = False, enabled: bool = True,
                  blueprint: rrb.Blueprint | None = None, flush_every: int = 20,
-                 chain_radius_scale: float | None = None):
-        self.enabled = enabled and (path is not None or spawn)
+                 chain_radius_scale: float | None = None, vtk=None):
+        self.vtk = vtk
+        rerun_on = enabled and (path is not None or spawn)
+        self.enabled = rerun_on or vtk is not None
         self.dim = dim
         self.every = max(int(every), 1)
         self.flush_every = flush_every
@@ -157,7 +164,7 @@ class Recorder:
         self._series: dict[str, list] = {}
         self._series_time: dict[str, list] = {}
         self.path = Path(path) if path is not None else None
-        if not self.enabled:
+        if not rerun_on:
             self.rec = None
             return
         self.rec = rr.RecordingStream(app_id, recording_id=recording_id)
@@ -204,12 +211,17 @@ class Recorder:
         """Log one engine frame. ``profile`` = (z/H at panel centres, sigma_h/(gamma H));
         ``metrics`` = scalars (e.g. K, thrust_kN, resultant_height_over_H) kept as time series.
         Returns True when the scene was logged (every N-th call)."""
-        if self.rec is None:
+        if not self.enabled:
             return False
         self._calls += 1
-        self._remember(frame.step, frame.time, wall_disp_over_H, metrics)
+        if self.rec is not None:
+            self._remember(frame.step, frame.time, wall_disp_over_H, metrics)
         if (self._calls - 1) % self.every:
             return False
+        if self.vtk is not None:
+            self.vtk.write_frame(frame)
+        if self.rec is None:
+            return True
         self._set_time(frame.step, frame.time, wall_disp_over_H)
         self._log_particles(frame, colour_by)
         self._log_walls(frame)
@@ -299,10 +311,17 @@ class Recorder:
     def log_block_wall(self, step: int, time: float, outlines: list, displacement: np.ndarray, *,
                        water_height: float, water_x: tuple[float, float],
                        contact_points: np.ndarray | None = None, contact_forces: np.ndarray | None = None,
+                       block_forces: dict[str, np.ndarray] | None = None,
                        metrics: dict[str, float] | None = None) -> None:
         """A wall of polygon blocks: outlines (k,2) coloured by each block's displacement
         magnitude (m, viridis up to the largest), the water surface as a line over
-        ``water_x`` at ``water_height``, and joint contact points sized by normal force."""
+        ``water_x`` at ``water_height``, and joint contact points sized by normal force.
+        ``block_forces`` (name -> (k,2) [N/m], e.g. the water load of each block) go to
+        the VTK files only."""
+        if self.vtk is not None:
+            self.vtk.write_blocks(step, time, outlines, displacement, forces=block_forces)
+            if contact_points is not None:
+                self.vtk.write_points("joints", step, time, contact_points, {"normal_force": contact_forces})
         if self.rec is None:
             return
         self._log_blocks(step, time, outlines, displacement, metrics)
@@ -328,6 +347,10 @@ class Recorder:
         darker), force chains of fill and wall together (contacts above the mean force,
         radius ~ force, as ``_log_chains``), and block velocity arrows [m/s, drawn x 0.5 s]
         when given (at failure)."""
+        if self.vtk is not None:
+            self.vtk.write_blocks(step, time, outlines, displacement)
+            self.vtk.write_grains(step, time, grain_outlines, grain_held)
+            self.vtk.write_segments(step, time, chain_segments, chain_forces)
         if self.rec is None:
             return
         self._log_blocks(step, time, outlines, displacement, metrics)
@@ -356,7 +379,11 @@ class Recorder:
     def log_scalar_points(self, entity: str, step: int, time: float, positions: np.ndarray, radii,
                           values: np.ndarray, vmax: float, *, diverging: bool = False) -> None:
         """Points coloured by a scalar per point: viridis over [0, vmax], or with
-        ``diverging`` blue-white-red over [-vmax, vmax] (e.g. the sheet pile's moment)."""
+        ``diverging`` blue-white-red over [-vmax, vmax] (e.g. the sheet pile's moment).
+        VTK: a point set named after the entity's last part, ``value`` per point."""
+        if self.vtk is not None:
+            self.vtk.write_points(entity.rsplit("/", 1)[-1], step, time, positions,
+                                  {"value": values, "radius": np.broadcast_to(np.asarray(radii, float), len(values))})
         if self.rec is None:
             return
         self._set_time(step, time, None)
@@ -414,7 +441,9 @@ class Recorder:
 
     @_timed
     def close(self) -> None:
-        """Send the buffered time series, flush and close the file."""
+        """Send the buffered time series, flush and close the file (and the VTK index)."""
+        if self.vtk is not None:
+            self.vtk.close()
         if self.rec is None:
             return
         self._send_series()

@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import RECORDING, RESUME, output_folder
+from ..options import RECORDING, RESUME, VTK, output_folder
 from ..study import Command, Option, Study
 from .case import DIRECTIONS, GEOMETRIES, WALLS, WALLS_B
 
@@ -189,7 +189,7 @@ COMPARE = Command(
     default_case=_default_case, run=_compare, text=_compare_text, seed_key=None,
     options=(Option("--wall", "V1L | V2L | V3L | V4L | V5S (case A, water) | C2S | C3S | C4L (case B, "
                     "backfill) (V1L)", key="wall", choices=WALLS + WALLS_B),
-             *_CASE_OPTIONS, *RECORDING[:3], RESUME))
+             *_CASE_OPTIONS, *RECORDING[:3], VTK, RESUME))
 
 VALIDATE = Command(
     verb="validate", help="case A: the five walls, convergence and bands (minutes); case B: three walls x two "
@@ -214,7 +214,7 @@ VALIDATE = Command(
              Option("--no-convergence", "case A: skip the dt / 2, 2 x iterations repeat", switch=True),
              *_CASE_OPTIONS[5:],
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
-                    parse=output_folder("docs"))))
+                    parse=output_folder("docs")), VTK))
 
 STUDY = Study(name="drystone",
               title="Dry-stone retaining walls to failure (Oetomo et al.): Villemus's under water, Colas's under gravel",

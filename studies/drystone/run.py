@@ -109,8 +109,12 @@ def _recorder_hook(rec, wall):
     def hook(w, hw, crest):
         pts, fs = w.contact_forces()
         disp = np.hypot(*(w.positions() - x0).T)
+        water = np.zeros((w.block_count, 2))
+        loads = w.water_loads()
+        if loads is not None:
+            water[loads[0]] = loads[1]
         rec.log_block_wall(w.steps, w.time, w.world_outlines(), disp, water_height=hw, water_x=(xs, xs + 0.5),
-                           contact_points=pts, contact_forces=fs,
+                           contact_points=pts, contact_forces=fs, block_forces={"water_force": water},
                            metrics={"crest_displacement_mm": crest * 1e3, "water_height_m": hw})
     return hook
 
@@ -149,12 +153,12 @@ def compare_wall(case: DrystoneCase, *, root: Path, rrd: str | None = None, reco
     folder = open_run_folder("drystone", case, root, seed=None)
     path = Path(rrd) if rrd else (folder.file("recording.rrd") if record else None)
     rec = open_recording(path, study="drystone", recording_id=f"drystone-{case.wall}", dim=2,
-                         blueprint=drystone_blueprint(), spawn=spawn)
+                         blueprint=drystone_blueprint(), spawn=spawn, folder=folder)
     rec.log_case("\n".join([f"# {case.wall}, {case.geometry} geometry", "", RIGID_NOTE, "", "Assumed:",
                             *[f"- {a}" for a in assumptions(case)]]))
 
     def on_increment(wall, hw, crest):
-        if rec.rec is not None:
+        if rec.enabled:
             on_increment.hook = getattr(on_increment, "hook", None) or _recorder_hook(rec, wall)
             on_increment.hook(wall, hw, crest)
         if progress is not None:

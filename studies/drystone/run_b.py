@@ -236,12 +236,12 @@ def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, 
     default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
     path = Path(rrd) if rrd else (folder.file(default_rrd) if record else None)
     rec = open_recording(path, study="drystone", recording_id=f"drystone-{case.wall}-seed{case.backfill.seed}", dim=2,
-                         blueprint=drystone_backfill_blueprint(), spawn=spawn)
+                         blueprint=drystone_backfill_blueprint(), spawn=spawn, folder=folder)
     rec.log_case("\n".join([f"# {case.wall} under gravel backfill, seed {case.backfill.seed}", "", RIGID_NOTE, "",
                             "Assumed:", *[f"- {a}" for a in assumptions(case) + backfill_assumptions(case)]]))
 
     def on_stage(bw, r):
-        if rec.rec is not None:
+        if rec.enabled:
             _backfill_frame(rec, bw, r)
         if progress is not None:
             progress(r["backfill_height_m"], r["crest_displacement_m"], r)
@@ -249,7 +249,7 @@ def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, 
     try:
         run = run_backfill(case, on_stage=on_stage, checkpoint=lambda blob: atomic_write(folder.file(CHECKPOINT), blob),
                            resume=state)
-        if rec.rec is not None and run["stages"]:
+        if rec.enabled and run["stages"]:
             _backfill_frame(rec, run["bw"], run["stages"][-1], at_failure=True)
     finally:
         rec.close()

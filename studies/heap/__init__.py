@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import RECORDING, RESUME, output_folder
+from ..options import RECORDING, RESUME, VTK, output_folder
 from ..study import Command, Option, Study
 
 
@@ -82,7 +82,7 @@ COMPARE = Command(
                 "each stage), ending as the uninterrupted run would, bit for bit. "
                 "Example: wallsim compare heap --particles 6000 --seed 2",
     default_case=_default_case, run=_compare, text=_compare_text, busy_note=True, footprint=_footprint,
-    options=(_PARTICLES, *RECORDING[:3], RESUME))
+    options=(_PARTICLES, *RECORDING[:3], VTK, RESUME))
 
 VALIDATE = Command(
     verb="validate", help="three seeds at paper scale -> docs/validation/heap.md (about 30-45 min)",
@@ -94,7 +94,7 @@ VALIDATE = Command(
              Option("--seeds", "the seeds, A..B or a list S1,S2 (1..3)", parse=_seeds, default=(1, 2, 3),
                     metavar="A..B|S1,S2"),
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
-                    parse=output_folder("docs"))))
+                    parse=output_folder("docs")), VTK))
 
 STUDY = Study(name="heap", title="Nadukuru & Michalowski (2012) Fig. 1, heap over a subsiding base (3D DEM)",
               commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -55,7 +55,7 @@ def compare_heap(case: HeapCase, *, root: Path = Path("runs"), rrd: Path | None 
     state = load_npz(saved) if resume is not None and saved.is_file() else None
     default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
     rrd_path = Path(rrd) if rrd is not None else folder.file(default_rrd)
-    recorder = open_recording(rrd_path if record else None, study="heap", dim=3, spawn=spawn,
+    recorder = open_recording(rrd_path if record else None, study="heap", dim=3, spawn=spawn, folder=folder,
                               recording_id=f"{folder.path.name}-heap")
     recorder.log_case(_case_markdown(case))
 

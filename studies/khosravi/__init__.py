@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import RESUME, output_file, output_folder
+from ..options import RESUME, VTK, output_file, output_folder
 from ..report import reduced_size_line
 from ..runner import closing_line
 from ..study import Command, Option, Study
@@ -115,7 +115,7 @@ COMPARE = Command(
              Option("--rrd", "write a recording (disks, walls, force chains): recording.rrd in the run folder, "
                              "or FILE (off by default)", metavar="FILE", parse=output_file("rrd", (".rrd",)),
                     optional=True),
-             Option("--no-cache", "do not reuse or keep the settled specimen", switch=True), RESUME))
+             Option("--no-cache", "do not reuse or keep the settled specimen", switch=True), VTK, RESUME))
 
 VALIDATE = Command(
     verb="validate", help="full-size Khosravi case -> docs/validation/khosravi.{json,md} + figures",
@@ -127,7 +127,7 @@ VALIDATE = Command(
     footprint=_footprint,
     options=(Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs")),
-             Option("--rrd", "also keep recording.rrd in the run folder", switch=True)))
+             Option("--rrd", "also keep recording.rrd in the run folder", switch=True), VTK))
 
 STUDY = Study(name="khosravi", title="Khosravi et al., PFC2D-style translating wall with 40 pressure cells",
               commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -112,7 +112,7 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
     rf = open_run_folder("khosravi", case, root, name=name, resume=resume)
     specimens, key = Store(Path(root) / "khosravi" / "_specimens"), specimen_key(case)
     default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
-    recorder = _recording(rf.file(default_rrd) if rrd is True else Path(rrd), case) if rrd else None
+    recorder = _recording((rf.file(default_rrd) if rrd is True else Path(rrd)) if rrd else None, case, rf)
     with progress(quiet) as bar:
         run, reused = _started(case, rf.path / CHECKPOINT if resume is not None else None,
                                specimens if specimen_cache else None, key, bar, clock)
@@ -231,10 +231,13 @@ def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwa
         run = KhosraviRun.restored(case, mark)
 
 
-def _recording(path: Path, case: KhosraviCase):
+def _recording(path: Path | None, case: KhosraviCase, folder: RunFolder):
+    """The run's recorder (Rerun at ``path``, VTK with ``--vtk``), or None when it records nothing."""
     from viz.recorder import khosravi_blueprint
-    recorder = open_recording(path, study="khosravi", dim=2,
+    recorder = open_recording(path, study="khosravi", dim=2, folder=folder,
                               recording_id=f"khosravi-{case.seed}", blueprint=khosravi_blueprint())
+    if not recorder.enabled:
+        return None
     recorder.log_case(_case_text(case))
     return recorder
 

@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 from analytic.errors import InvalidParameter
 
-from ..options import RECORDING, RESUME, output_folder
+from ..options import RECORDING, RESUME, VTK, output_folder
 from ..report import reduced_size_line
 from ..runner import closing_line
 from ..study import Command, Option, Study
@@ -128,6 +128,7 @@ COMPARE = Command(
         Option("--particles", _PARTICLES_HELP + " (30000)", key="specimen.particles"),
         RESUME,
         *RECORDING,
+        VTK,
     ))
 
 VALIDATE = Command(
@@ -147,6 +148,7 @@ VALIDATE = Command(
         Option("--no-rate-check", "skip the half-speed repeat of translation", switch=True),
         Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                parse=output_folder("docs")),
+        VTK,
     ))
 
 STUDY = Study(name="nadukuru", title="Nadukuru & Michalowski (2012), 3D DEM, four modes of wall movement",

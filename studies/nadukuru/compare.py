@@ -72,7 +72,7 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     cmp = comparison(case, wall_kind, spec, root)
     # a resumed run records what it runs: the part after the resume, in its own file
     rrd_path = Path(rrd) if rrd is not None else folder.file("recording-resumed.rrd" if resume else "recording.rrd")
-    recorder = open_recording(rrd_path if record else None, study="nadukuru", dim=3, spawn=spawn,
+    recorder = open_recording(rrd_path if record else None, study="nadukuru", dim=3, spawn=spawn, folder=folder,
                               recording_id=f"{folder.path.name}-{case.movement.mode}", blueprint=nadukuru_blueprint())
     recorder.log_case(_case_markdown(case, wall_kind, spec, cmp.phi, cmp.phi_source))
     _log_theory(recorder, cmp.phi, case, cmp.gamma, cmp.H)

@@ -21,7 +21,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import RESUME, number_list, output_file, output_folder
+from ..options import RESUME, VTK, number_list, output_file, output_folder
 from ..runner import closing_line
 from ..study import Command, Option, Study
 
@@ -94,6 +94,7 @@ COMPARE = Command(
                key="resolution", choices=("coarse", "medium", "paper")),
         Option("--rrd", "write a recording (recording.rrd in the run folder, or FILE)", metavar="FILE",
                parse=output_file("rrd", (".rrd",)), optional=True),
+        VTK,
         RESUME,
     ))
 
@@ -124,7 +125,7 @@ VALIDATE = Command(
              Option("--resolution", "coarse, medium or paper (coarse)", key="resolution",
                     choices=("coarse", "medium", "paper")),
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
-                    parse=output_folder("docs"))))
+                    parse=output_folder("docs")), VTK))
 
 STUDY = Study(name="seismic", title="Sizkow & El Shamy, a sheet pile shaken at 50 g (3D DEM, free-field boundaries)",
               commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -223,7 +223,7 @@ class _Recording:
 
         from ..runner import open_recording
         self.rec = open_recording(path, study="seismic", recording_id=folder.path.name, dim=3,
-                                  blueprint=seismic_blueprint())
+                                  blueprint=seismic_blueprint(), folder=folder)
         self.case, self.x0_rows, self.model, self.porosity, self.progress = case, x0_rows, model, porosity, progress
         self.count = 0
         self.wall: list = []          # (step, time, wall ball positions, moment per ball [kN m/m])

@@ -183,6 +183,21 @@ def test_a_finished_run_is_not_rerun(workdir, capsys):
     assert _files(workdir) == before
 
 
+def test_vtk_on_a_resume_of_a_run_without_it_is_refused(workdir, capsys):
+    """A resumed run records as it started: --vtk on a run started without it is one
+    line and exit 2 (it would otherwise silently write no VTK), and nothing is written."""
+    from studies import get
+    from studies.runfolder import RunFolder
+
+    folder = RunFolder("heap", 4, root=workdir / "runs")
+    folder.write_config(get("heap").case(seed=4))
+    before = _files(workdir)
+    assert cli.main(["compare", "heap", "--resume", str(folder.path), "--vtk"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "--vtk" in err and "Traceback" not in err
+    assert _files(workdir) == before
+
+
 def _args(argv):
     return cli.build_parser().parse_args(argv)
 

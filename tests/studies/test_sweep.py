@@ -238,7 +238,7 @@ def test_each_point_logs_its_progress_and_keeps_its_run_options(swept):
         assert f"point {p['point']}: khosravi compare, started on" in log[0] and "point finished in" in log[-1]
         assert any("pluviation" in line or "translation" in line for line in log[1:-1])   # the run's own progress
         assert json.loads((folder / "run_options.json").read_text()) == {"rrd": None, "no_cache": None,
-                                                                         "resume": None,
+                                                                         "resume": None, "vtk": None,
                                                                          "out": str(out.resolve()), "quiet": True}
 
 

@@ -1,0 +1,230 @@
+"""VTK files of a run for ParaView: per recorded frame, the particles as points, the
+contacts as lines, the wall panels and blocks as polygons; and one ``.pvd`` collection
+per kind with the simulation time of each frame (what ParaView's time slider reads).
+
+Written with pyevtk: binary VTU (appended raw data, little endian) and the .pvd
+collections, so no XML is written by hand here. Float data stay float64 so a force read
+back is the force the run computed (the test sums them to the run's own thrust). 2D
+runs are written as z = 0 geometry, their vectors with a zero z component, forces per
+metre of wall.
+
+The folder (``vtk/`` in the run folder) holds ``<kind>_<step>.vtu`` files, ``<kind>.pvd``
+and ``frames.json`` (the index the collections are rebuilt from, so a resumed run adds
+its frames to those written before the interruption). Files are written whole (a
+temporary name, then a rename): an interrupted run leaves readable files only.
+
+Kinds and their arrays (units SI; 2D forces N/m):
+
+* ``particles``: vertices; ``radius`` [m], ``velocity`` [m/s], ``force`` (contact force on
+  the sphere / body, when the engine gives it) [N], ``body_id`` (clump or body), ``material``
+* ``contacts``: lines between the two centres; ``normal_force`` (compression +) [N],
+  ``shear_force`` (magnitude) [N], ``bonded`` (1 where an intact bond joins the pair)
+* ``walls``: panels (3D quadrilaterals, 2D segments); ``panel`` (index in the run's
+  panel order), ``force`` (by the particles on the panel) [N], ``normal`` (into the
+  fill), ``area`` [m^2; m in 2D], ``normal_stress`` (compression +) [Pa]
+* ``blocks``: polygons of rigid blocks (dry-stone walls) with ``displacement`` [m] and any
+  per-block forces the run gives (e.g. ``water_force``) [N/m]
+* ``grains``: polygons of polygonal grains (case B's gravel), ``held`` (1: held fixed)
+* ``joints``: points, ``normal_force`` of each block contact [N/m]
+* ``points``: any other point set a study logs with a value per point (e.g. the sheet
+  pile's balls with their bending moment)
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time as _time
+from pathlib import Path
+
+import numpy as np
+from pyevtk.hl import unstructuredGridToVTK
+from pyevtk.vtk import VtkGroup, VtkLine, VtkPolygon, VtkVertex
+
+from analytic.frame import panel_normal_stress
+
+#: the index of the frames written, from which every .pvd is rebuilt
+INDEX = "frames.json"
+
+
+def _xyz(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(n, 2|3) -> three contiguous float64 coordinate arrays (z = 0 for 2D)."""
+    p = np.asarray(points, np.float64).reshape(len(points), -1)
+    z = p[:, 2] if p.shape[1] > 2 else np.zeros(len(p))
+    return tuple(np.ascontiguousarray(c) for c in (p[:, 0], p[:, 1], z))
+
+
+def _vector(values, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(n, 2|3) -> a VTK 3-vector (three contiguous arrays)."""
+    v = np.asarray(values, np.float64).reshape(n, -1)
+    z = v[:, 2] if v.shape[1] > 2 else np.zeros(n)
+    return tuple(np.ascontiguousarray(c) for c in (v[:, 0], v[:, 1], z))
+
+
+def _scalar(values, dtype=np.float64) -> np.ndarray:
+    return np.ascontiguousarray(np.asarray(values), dtype=dtype)
+
+
+class VtkSeries:
+    """The VTK files of one run, in ``folder`` (created on the first frame).
+
+    seconds:  wall time spent writing [s] (before an interruption too: kept in the index,
+              up to the last file written)
+    """
+
+    def __init__(self, folder: str | Path):
+        self.folder = Path(folder)
+        index = self.folder / INDEX
+        held = json.loads(index.read_text()) if index.is_file() else {}
+        #: kind -> [[time, file name], ...] in time order
+        self.frames: dict[str, list[list]] = held.get("frames", {})
+        self.seconds = float(held.get("write_seconds", 0.0))
+
+    # ------------------------------------------------------------------ one frame
+    def write_frame(self, frame) -> None:
+        """Particles, contacts, wall panels and (2D) block outlines of an engine Frame."""
+        t0 = _time.perf_counter()
+        step, t = int(frame.step), float(frame.time)
+        self._particles(frame, step, t)
+        self._contacts(frame, step, t)
+        self._walls(frame, step, t)
+        if getattr(frame, "block_outlines", None) is not None:
+            self._polygons("blocks", step, t, frame.block_outlines, {})
+        self.seconds += _time.perf_counter() - t0
+
+    def write_blocks(self, step: int, time: float, outlines: list, displacement: np.ndarray, *,
+                     forces: dict[str, np.ndarray] | None = None) -> None:
+        """Rigid blocks as polygons with their displacement [m] and per-block forces
+        (name -> (k, 2) [N/m])."""
+        t0 = _time.perf_counter()
+        data = {"displacement": _scalar(displacement)}
+        for name, f in (forces or {}).items():
+            data[name] = _vector(f, len(outlines))
+        self._polygons("blocks", int(step), float(time), outlines, data)
+        self.seconds += _time.perf_counter() - t0
+
+    def write_grains(self, step: int, time: float, outlines: np.ndarray, held: np.ndarray) -> None:
+        """Polygonal grains (n, k, 2) as polygons, ``held`` (n,) bool."""
+        t0 = _time.perf_counter()
+        self._polygons("grains", int(step), float(time), list(outlines), {"held": _scalar(held, np.uint8)})
+        self.seconds += _time.perf_counter() - t0
+
+    def write_segments(self, step: int, time: float, segments: np.ndarray, normal_force: np.ndarray) -> None:
+        """Contacts given as (m, 2, d) segments with a force each [N; N/m]."""
+        t0 = _time.perf_counter()
+        seg = np.asarray(segments, float)
+        self._lines("contacts", int(step), float(time), seg[:, 0], seg[:, 1], {"normal_force": _scalar(normal_force)})
+        self.seconds += _time.perf_counter() - t0
+
+    def write_points(self, kind: str, step: int, time: float, positions: np.ndarray,
+                     data: dict[str, np.ndarray]) -> None:
+        """A point set with scalars per point (``kind``: joints, points, ...)."""
+        t0 = _time.perf_counter()
+        self._vertices(kind, int(step), float(time), positions, {k: _scalar(v) for k, v in data.items()})
+        self.seconds += _time.perf_counter() - t0
+
+    # ------------------------------------------------------------------ kinds
+    def _particles(self, frame, step: int, t: float) -> None:
+        n = len(frame.positions)
+        data = {"radius": _scalar(frame.radii), "velocity": _vector(frame.velocities, n)}
+        if getattr(frame, "particle_force", None) is not None:
+            data["force"] = _vector(frame.particle_force, n)
+        data["body_id"] = _scalar(frame.body_id, np.int64)
+        if getattr(frame, "material", None) is not None:
+            data["material"] = _scalar(frame.material, np.int32)
+        self._vertices("particles", step, t, frame.positions, data)
+
+    def _contacts(self, frame, step: int, t: float) -> None:
+        data = {"normal_force": _scalar(frame.contact_force)}
+        if getattr(frame, "contact_shear", None) is not None:
+            data["shear_force"] = _scalar(frame.contact_shear)
+        if getattr(frame, "contact_bonded", None) is not None:
+            data["bonded"] = _scalar(frame.contact_bonded, np.uint8)
+        self._lines("contacts", step, t, frame.contact_a, frame.contact_b, data)
+
+    def _walls(self, frame, step: int, t: float) -> None:
+        corners = np.asarray(frame.panel_corners, float)
+        p = len(corners)
+        if p == 0:
+            return
+        data = {"panel": np.arange(p, dtype=np.int32), "force": _vector(frame.panel_force, p),
+                "normal": _vector(frame.panel_normal, p), "area": _scalar(frame.panel_area),
+                "normal_stress": _scalar(panel_normal_stress(frame))}
+        if corners.shape[1] == 2:                       # 2D: a panel is a segment
+            self._lines("walls", step, t, corners[:, 0], corners[:, 1], data)
+        else:
+            self._polygons("walls", step, t, list(corners), data)
+
+    # ------------------------------------------------------------------ cells
+    def _vertices(self, kind, step, t, positions, data) -> None:
+        n = len(positions)
+        x, y, z = _xyz(np.asarray(positions).reshape(n, -1)) if n else (np.zeros(0),) * 3
+        self._write(kind, step, t, x, y, z, np.arange(n, dtype=np.int64), np.arange(1, n + 1, dtype=np.int64),
+                    np.full(n, VtkVertex.tid, np.uint8), point_data=data)
+
+    def _lines(self, kind, step, t, a, b, data) -> None:
+        m = len(a)
+        ends = np.empty((2 * m, np.asarray(a).shape[1] if m else 3))
+        if m:
+            ends[0::2], ends[1::2] = a, b
+        x, y, z = _xyz(ends) if m else (np.zeros(0),) * 3
+        self._write(kind, step, t, x, y, z, np.arange(2 * m, dtype=np.int64),
+                    np.arange(2, 2 * m + 1, 2, dtype=np.int64), np.full(m, VtkLine.tid, np.uint8), cell_data=data)
+
+    def _polygons(self, kind, step, t, outlines, data) -> None:
+        sizes = np.array([len(o) for o in outlines], dtype=np.int64)
+        pts = np.concatenate([np.asarray(o, float) for o in outlines]) if len(outlines) else np.zeros((0, 3))
+        x, y, z = _xyz(pts) if len(pts) else (np.zeros(0),) * 3
+        self._write(kind, step, t, x, y, z, np.arange(len(pts), dtype=np.int64), np.cumsum(sizes),
+                    np.full(len(outlines), VtkPolygon.tid, np.uint8), cell_data=data)
+
+    def _write(self, kind, step, t, x, y, z, connectivity, offsets, types, *, point_data=None,
+               cell_data=None) -> None:
+        """One file, written whole, and the kind's collection rebuilt with it."""
+        self.folder.mkdir(parents=True, exist_ok=True)
+        name = f"{kind}_{step:010d}"
+        tmp = self.folder / f".{name}.tmp"
+        unstructuredGridToVTK(str(tmp), x, y, z, connectivity=connectivity, offsets=offsets, cell_types=types,
+                              cellData=cell_data or None, pointData=point_data or None)
+        os.replace(f"{tmp}.vtu", self.folder / f"{name}.vtu")
+        entries = [e for e in self.frames.get(kind, []) if e[1] != f"{name}.vtu"] + [[t, f"{name}.vtu"]]
+        self.frames[kind] = sorted(entries, key=lambda e: (e[0], e[1]))
+        self._collection(kind)
+
+    def _collection(self, kind: str) -> None:
+        """``<kind>.pvd`` (every frame of the kind with its time) and the index."""
+        tmp = self.folder / f".{kind}.tmp"
+        group = VtkGroup(str(tmp))
+        for t, name in self.frames[kind]:
+            group.addFile(str(self.folder / name), sim_time=repr(float(t)))
+        group.save()
+        os.replace(f"{tmp}.pvd", self.folder / f"{kind}.pvd")
+        self._index()
+
+    def _index(self) -> None:
+        index = self.folder / f".{INDEX}.tmp"
+        index.write_text(json.dumps({"frames": self.frames, "write_seconds": self.seconds}, indent=1))
+        os.replace(index, self.folder / INDEX)
+
+    def close(self) -> None:
+        """Write the index with the time spent on the last frame too."""
+        if self.frames:
+            self._index()
+
+
+def summary(folder: str | Path) -> dict | None:
+    """What a run's vtk/ folder holds and what it cost (None when there is none): the
+    collections, the frames of each kind, the size [MB] and the wall time spent
+    writing [s], each also per recorded time (a frame: one file of each kind)."""
+    folder = Path(folder)
+    index = folder / INDEX
+    if not index.is_file():
+        return None
+    held = json.loads(index.read_text())
+    frames = held["frames"]
+    size = sum(p.stat().st_size for p in folder.iterdir() if p.is_file())
+    times = len({t for entries in frames.values() for t, _ in entries})
+    return {"folder": str(folder), "collections": sorted(f"{k}.pvd" for k in frames),
+            "frames": {k: len(v) for k, v in frames.items()}, "MB": size / 1e6,
+            "write_seconds": held["write_seconds"], "MB_per_frame": size / 1e6 / max(times, 1),
+            "write_seconds_per_frame": held["write_seconds"] / max(times, 1)}
