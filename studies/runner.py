@@ -256,6 +256,15 @@ def drop_checkpoint(run_dir: str | Path, name: str) -> None:
         path.parent.rmdir()
 
 
+def reusing_line(run_dir: str | Path) -> str:
+    """What a validation says when it reads a finished run instead of running it again;
+    under --vtk it says when that run has no VTK files (it was run without --vtk)."""
+    line = f"reusing finished run {run_dir}"
+    if (_options.get() or {}).get("vtk") and not (Path(run_dir) / VTK_FOLDER).is_dir():
+        line += " (run without --vtk: it has no VTK files; remove the folder to run it again with them)"
+    return line
+
+
 def finished_result(run_dir: str | Path) -> dict | None:
     """The result of a run folder that holds a finished run (result.json), else None."""
     p = Path(run_dir) / "result.json"

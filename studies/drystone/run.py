@@ -119,6 +119,21 @@ def _recorder_hook(rec, wall):
     return hook
 
 
+def increment_logger(rec, progress=None):
+    """What runs after each water increment: the recording's frame (when it records:
+    Rerun or VTK) and the progress line."""
+    hook = []
+
+    def on_increment(wall, hw, crest):
+        if rec.enabled:
+            if not hook:
+                hook.append(_recorder_hook(rec, wall))
+            hook[0](wall, hw, crest)
+        if progress is not None:
+            progress(hw, crest)
+    return on_increment
+
+
 def write_outputs(folder, case: DrystoneCase, result: dict, res) -> None:
     """History CSV + PNG, mechanism PNG, comparison CSV (the run folder's files)."""
     from viz.figures import plot_drystone_history, plot_drystone_mechanism
@@ -157,14 +172,7 @@ def compare_wall(case: DrystoneCase, *, root: Path, rrd: str | None = None, reco
     rec.log_case("\n".join([f"# {case.wall}, {case.geometry} geometry", "", RIGID_NOTE, "", "Assumed:",
                             *[f"- {a}" for a in assumptions(case)]]))
 
-    def on_increment(wall, hw, crest):
-        if rec.enabled:
-            on_increment.hook = getattr(on_increment, "hook", None) or _recorder_hook(rec, wall)
-            on_increment.hook(wall, hw, crest)
-        if progress is not None:
-            progress(hw, crest)
-
-    wall, res, seconds, cpu = run_dem(case, on_increment=on_increment)
+    wall, res, seconds, cpu = run_dem(case, on_increment=increment_logger(rec, progress))
     rec.close()
     result = wall_result(case, wall, res, seconds, cpu) | {"run_folder": str(folder.path)}
     write_outputs(folder, case, result, res)

@@ -22,10 +22,10 @@ from pathlib import Path
 import reproducibility
 
 from ..runfolder import git_revision, package_versions, to_plain
-from ..runner import finished_result
+from ..runner import finished_result, reusing_line
 from ..store import atomic_write, content_key
 from .case import GEOMETRIES, DrystoneCase, reference
-from .run import RIGID_NOTE, limit_equilibrium, run_dem, wall_result
+from .run import RIGID_NOTE, increment_logger, limit_equilibrium, run_dem, wall_result
 
 CONVERGENCE_LIMIT_PERCENT = 2.0      # issue 23: < 2 % change in critical height, never the mode
 ACCURACY_LIMIT_PERCENT = 10.0        # issue 23: within 10 % of the measured height
@@ -57,18 +57,20 @@ def dem_run(case: DrystoneCase, what: str, root: Path, *, figures: bool = False,
     when it holds a finished run, else the run goes there, a folder without result.json
     (an interrupted run) removed first. ``figures``: the wall's history and mechanism
     figures too, history.png and mechanism.png in the folder."""
-    from ..runner import finish, open_run_folder
+    from ..runner import finish, open_recording, open_run_folder
 
     folder = run_folder(case, what, root)
     done = finished_result(folder)
     if done is not None:
         if log:
-            log(f"reusing finished run {folder}")
+            log(reusing_line(folder))
         return done
     if folder.exists():
         shutil.rmtree(folder)
     rf = open_run_folder("drystone", case, root, name=folder.name, seed=None)
-    wall, res, seconds, cpu = run_dem(case)
+    rec = open_recording(None, study="drystone", recording_id=f"drystone-{case.wall}", dim=2, folder=rf)
+    wall, res, seconds, cpu = run_dem(case, on_increment=increment_logger(rec))
+    rec.close()
     r = wall_result(case, wall, res, seconds, cpu) | {"run_folder": str(rf.path)}
     if figures:
         _wall_figures(case, r, res, rf.path)

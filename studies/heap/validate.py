@@ -19,7 +19,7 @@ import numpy as np
 import reproducibility
 
 from ..runfolder import git_revision, package_versions
-from ..runner import finished_result, named_run
+from ..runner import finished_result, named_run, reusing_line
 from ..store import content_key
 from .compare import ASSUMPTIONS, compare_heap, slope_text
 from .model import HeapCase
@@ -57,7 +57,7 @@ def seed_run(case: HeapCase, *, root: Path, record: bool = False, progress=None,
     folder = Path(root) / "heap" / run_name(case)
     done = finished_result(folder)
     if done is not None:
-        log(f"reusing finished run {folder}")
+        log(reusing_line(folder))
         return done
     if (folder / "config.toml").is_file() and (folder / "checkpoints" / "heap.npz").is_file():
         log(f"resuming interrupted run {folder}")

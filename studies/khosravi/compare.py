@@ -35,7 +35,8 @@ from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.report import theory_row
 from studies.runfolder import RunFolder, package_versions, to_plain
-from studies.runner import Stopwatch, drop_checkpoint, finish, finished_result, open_recording, open_run_folder
+from studies.runner import (Stopwatch, drop_checkpoint, finish, finished_result, open_recording, open_run_folder,
+                            reusing_line)
 from studies.store import Store, atomic_write, content_key
 
 #: Khosravi et al.'s published values the report compares with (shipped with the package)
@@ -383,7 +384,7 @@ def _readings_series(run: KhosraviRun, rest) -> tuple[np.ndarray, list, dict]:
 def _write_tables(rf, run: KhosraviRun, rest) -> None:
     """Panels at rest and active, the readings against Dis/H, every panel of every
     window (a report can be re-read at any Dis/H)."""
-    c, bf = run.case, run.backfill
+    bf = run.backfill
     z, H = run.panel_depths(), bf.H
     gH = bf.gamma * H
     act = active_record(run)
@@ -469,7 +470,7 @@ def validation_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool
     new run, a resumed one or a finished one."""
     folder = Path(root) / "khosravi" / f"validate-translation-{content_key(case)}"
     if finished_result(folder) is not None:
-        log(f"reusing finished run {folder}")
+        log(reusing_line(folder))
     elif (folder / "config.toml").is_file():
         log(f"resuming interrupted run {folder}")
         compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, resume=folder)
@@ -489,7 +490,7 @@ def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: boo
     from .backfilling import backfilling_name, run_backfilling
     folder = Path(root) / "khosravi" / backfilling_name(case)
     if finished_result(folder) is not None:
-        log(f"reusing finished run {folder}")
+        log(reusing_line(folder))
     else:
         if folder.exists():
             shutil.rmtree(folder)

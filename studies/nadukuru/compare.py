@@ -94,6 +94,11 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
 
 
 
+def compare_frame_every(case: NadukuruCase, every: int = 5) -> int:
+    """Steps between the frames a compare run records: ``every`` x 10 load samples."""
+    return max(1, every) * case.movement.record_every * 10
+
+
 def _move_and_record(case: NadukuruCase, spec, cmp: Comparison, recorder, every: int, progress,
                      folder) -> tuple[dict, dict]:
     """Move the wall (``run_modes``, resumable from the folder's checkpoint), logging every
@@ -112,7 +117,7 @@ def _move_and_record(case: NadukuruCase, spec, cmp: Comparison, recorder, every:
                              {"K": sample.K, "resultant_height_over_H": sample.resultant_height_over_H, "thrust_kN": sample.thrust_kN,
                               "panel_stress_kPa": sample.segment_stress / 1e3}, sample.wall_disp_over_H)
 
-    frame_every = max(1, every) * case.movement.record_every * 10
+    frame_every = compare_frame_every(case, every)
     hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame, frame_every=frame_every,
                      progress=progress, checkpoint_path=folder.file("checkpoints/movement.npz"))
     if frames:          # displacement field over the whole movement (Fig. 3a)

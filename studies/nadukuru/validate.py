@@ -31,7 +31,7 @@ from .model import G, MODES, NadukuruCase, WallSetup, load_or_prepare, paper_val
     rough_or_smooth, theory_rows
 from ..config import with_current_names
 from ..runfolder import package_versions, git_revision, to_plain
-from ..runner import finish, finished_result, open_run_folder
+from ..runner import finish, finished_result, open_recording, open_run_folder, reusing_line
 from ..store import atomic_write, content_key, load_npz, npz_bytes
 
 #: the validation targets (reference.json "targets"): K and h/H against Tables 1-2
@@ -106,7 +106,7 @@ def triaxial_run(base: NadukuruCase, root: Path, progress=None, log=print) -> di
     what = {"specimen": base.specimen, "seed": base.seed, "triaxial": setup, "particles": TRIAXIAL_PARTICLES}
     folder = Path(root) / "nadukuru" / f"validate-triaxial-{content_key(what)}"
     if finished_result(folder) is not None:
-        log(f"reusing finished run {folder}")
+        log(reusing_line(folder))
         return finished_result(folder)
     if folder.exists():
         shutil.rmtree(folder)
@@ -128,7 +128,7 @@ def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every
     movement (displacements.png) in the folder."""
     folder = Path(root) / "nadukuru" / f"validate-{what}-{content_key(case)}"
     if finished_result(folder) is not None:
-        log(f"reusing finished run {folder}")
+        log(reusing_line(folder))
     else:
         resume = folder if (folder / "config.toml").is_file() else None
         if resume is not None:
@@ -150,16 +150,23 @@ def _move(case: NadukuruCase, spec, rf, frame_every: int, chains: str | None, pr
     there), then write history.npz, the figures of ``chains`` and result.json (last)."""
     first = rf.path / "first_positions.npz"         # kept, so a resumed run draws the whole movement
     last = {}
+    # --vtk: the frames of a compare run at its default cadence, written as VTK only
+    from .compare import compare_frame_every
+    rec = open_recording(None, study="nadukuru", dim=3, recording_id=rf.path.name, folder=rf)
+    if rec.enabled:
+        frame_every = min(f for f in (frame_every, compare_frame_every(case)) if f)
 
     def on_frame(frame, sample):
         if chains and not first.is_file():
             atomic_write(first, npz_bytes({"positions": frame.positions}))
         last["frame"] = frame
+        rec.log_frame(frame, wall_disp_over_H=sample.wall_disp_over_H)
 
     tm = time.perf_counter()
     hist = run_modes(case, spec, frame_every=frame_every, progress=progress, on_frame=on_frame,
                      checkpoint_path=rf.file("checkpoints/movement.npz"))
     seconds = time.perf_counter() - tm
+    rec.close()
     atomic_write(rf.path / "history.npz", npz_bytes({k: np.asarray(hist[k]) for k in _HISTORY}))
     if chains and "frame" in last:
         _draw_chains(rf.path, chains, load_npz(first)["positions"], last["frame"])

@@ -28,7 +28,7 @@ import numpy as np
 import reproducibility
 
 from ..runfolder import git_revision, package_versions
-from ..runner import finished_result, named_run
+from ..runner import finished_result, named_run, reusing_line
 from ..store import content_key
 from .case import PAPER_FREQUENCIES, SeismicCase
 
@@ -75,7 +75,7 @@ def frequency_run(case: SeismicCase, *, root: Path, record: bool = False, progre
     from .compare import compare_seismic
     folder = Path(root) / "seismic" / run_name(case)
     if finished_result(folder) is not None:
-        log(f"reusing finished run {folder}")
+        log(reusing_line(folder))
         return folder
     resume = folder if (folder / "config.toml").is_file() else None
     if resume is not None:
