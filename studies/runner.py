@@ -180,18 +180,19 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
 
 
 def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int, blueprint=None,
-                   spawn: bool = False, folder: RunFolder | Path | None = None):
+                   spawn: bool = False, folder: RunFolder | Path | None = None, part: str | None = None):
     """The run's Rerun recording (``path`` None and no viewer: none), and its VTK files in
     ``folder``/vtk when the run was started with ``--vtk`` (its run_options.json says so,
-    so a resumed run writes them as the interrupted one did). With neither, a recorder
-    that does nothing."""
+    so a resumed run writes them as the interrupted one did); ``part``: a subfolder of
+    vtk/ for one of several tests of a run (each with its own clock). With neither, a
+    recorder that does nothing."""
     from viz.recorder import Recorder
     vtk = None
     if folder is not None:
         run_dir = Path(getattr(folder, "path", folder))
         if saved_options(run_dir).get("vtk"):
             from viz.vtk import VtkSeries
-            vtk = VtkSeries(run_dir / VTK_FOLDER)
+            vtk = VtkSeries(run_dir / VTK_FOLDER / (part or ""))
     return Recorder(path, app_id=f"wallsim {study}", recording_id=recording_id, dim=dim, every=1,
                     spawn=spawn, enabled=path is not None or spawn, blueprint=blueprint, vtk=vtk)
 

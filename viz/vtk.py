@@ -18,7 +18,8 @@ Kinds and their arrays (units SI; 2D forces N/m):
 * ``particles``: vertices; ``radius`` [m], ``velocity`` [m/s], ``force`` (contact force on
   the sphere / body, when the engine gives it) [N], ``body_id`` (clump or body), ``material``
 * ``contacts``: lines between the two centres; ``normal_force`` (compression +) [N],
-  ``shear_force`` (magnitude) [N], ``bonded`` (1 where an intact bond joins the pair)
+  ``shear_force`` (magnitude) [N]; in a run with parallel bonds the intact bonds follow
+  the touching pairs as lines of their own, ``bonded`` 1 (0 for a contact)
 * ``walls``: panels (3D quadrilaterals, 2D segments); ``panel`` (index in the run's
   panel order), ``force`` (by the particles on the panel) [N], ``normal`` (into the
   fill), ``area`` [m^2; m in 2D], ``normal_stress`` (compression +) [Pa]
@@ -135,12 +136,20 @@ class VtkSeries:
         self._vertices("particles", step, t, frame.positions, data)
 
     def _contacts(self, frame, step: int, t: float) -> None:
-        data = {"normal_force": _scalar(frame.contact_force)}
-        if getattr(frame, "contact_shear", None) is not None:
-            data["shear_force"] = _scalar(frame.contact_shear)
-        if getattr(frame, "contact_bonded", None) is not None:
-            data["bonded"] = _scalar(frame.contact_bonded, np.uint8)
-        self._lines("contacts", step, t, frame.contact_a, frame.contact_b, data)
+        """Touching pairs, then the intact bonds (``bonded`` 1) when the run has any."""
+        a, b, fn = frame.contact_a, frame.contact_b, np.asarray(frame.contact_force, float)
+        shear = getattr(frame, "contact_shear", None)
+        data = {"normal_force": fn}
+        if getattr(frame, "bond_a", None) is not None:
+            k = len(frame.bond_a)
+            a, b = np.concatenate([a, frame.bond_a]), np.concatenate([b, frame.bond_b])
+            data["normal_force"] = np.concatenate([fn, frame.bond_force])
+            if shear is not None:
+                shear = np.concatenate([shear, frame.bond_shear])
+            data["bonded"] = np.concatenate([np.zeros(len(fn), np.uint8), np.ones(k, np.uint8)])
+        if shear is not None:
+            data["shear_force"] = shear
+        self._lines("contacts", step, t, a, b, {key: _scalar(v, v.dtype) for key, v in data.items()})
 
     def _walls(self, frame, step: int, t: float) -> None:
         corners = np.asarray(frame.panel_corners, float)
@@ -214,17 +223,22 @@ class VtkSeries:
 
 def summary(folder: str | Path) -> dict | None:
     """What a run's vtk/ folder holds and what it cost (None when there is none): the
-    collections, the frames of each kind, the size [MB] and the wall time spent
-    writing [s], each also per recorded time (a frame: one file of each kind)."""
+    collections, the frames of each kind and their size [MB] (also per frame), and the
+    wall time spent writing them all [s]. A run of several tests (one subfolder each):
+    ``parts``, the same for each, with the totals."""
     folder = Path(folder)
     index = folder / INDEX
     if not index.is_file():
-        return None
+        parts = {p.name: summary(p) for p in sorted(folder.iterdir()) if (p / INDEX).is_file()} \
+            if folder.is_dir() else {}
+        if not parts:
+            return None
+        return {"folder": str(folder), "parts": parts, "MB": sum(p["MB"] for p in parts.values()),
+                "write_seconds": sum(p["write_seconds"] for p in parts.values())}
     held = json.loads(index.read_text())
     frames = held["frames"]
-    size = sum(p.stat().st_size for p in folder.iterdir() if p.is_file())
-    times = len({t for entries in frames.values() for t, _ in entries})
+    size = {k: sum((folder / name).stat().st_size for _, name in v) / 1e6 for k, v in frames.items()}
     return {"folder": str(folder), "collections": sorted(f"{k}.pvd" for k in frames),
-            "frames": {k: len(v) for k, v in frames.items()}, "MB": size / 1e6,
-            "write_seconds": held["write_seconds"], "MB_per_frame": size / 1e6 / max(times, 1),
-            "write_seconds_per_frame": held["write_seconds"] / max(times, 1)}
+            "frames": {k: len(v) for k, v in frames.items()}, "MB": sum(size.values()),
+            "MB_per_frame": {k: size[k] / max(len(frames[k]), 1) for k in frames},
+            "write_seconds": held["write_seconds"]}

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 from analytic.inputs import MAX_PRESSURE_KPA
 
-from ..options import kpa_to_pa, number, number_list, output_file
+from ..options import VTK, kpa_to_pa, number, number_list, output_file
 from ..study import Command, Option, Study
 
 
@@ -66,6 +66,7 @@ CALIBRATE = Command(
                key="case.particles_scale"),
         Option("--card", "also write the calibration card here", metavar="FILE.json",
                parse=output_file("card", (".json",))),
+        VTK,
     ))
 
 STUDY = Study(name="biaxial", title="Biaxial test of the Khosravi backfill (friction for a target phi)",

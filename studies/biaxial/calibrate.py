@@ -24,7 +24,7 @@ from dem2d.biaxial import MAX_CONFINING_PA, MAX_FRICTION, BiaxialCase, BiaxialTe
 from dem2d.params import Solver
 from studies.progress import progress
 from studies.runfolder import RunFolder, to_plain
-from studies.runner import finish, open_run_folder
+from studies.runner import finish, open_recording, open_run_folder
 from studies.store import atomic_write
 from studies.store import find_card_entry
 
@@ -60,8 +60,9 @@ class CalibrationPlan:
                                    "at most 100 tests with the pressures, ~10 min a test at the paper's grain size")
 
 
-def run_one(case: BiaxialCase, bar=None, label: str = "") -> tuple[dict, BiaxialTest, float]:
-    """One biaxial test; returns (summary dict with the curves, the test, wall time [s])."""
+def run_one(case: BiaxialCase, bar=None, label: str = "", on_frame=None) -> tuple[dict, BiaxialTest, float]:
+    """One biaxial test; returns (summary dict with the curves, the test, wall time [s]).
+    ``on_frame(frame)``: the specimen when compacted and at every tenth of the shear strain."""
     t0 = time.perf_counter()
     test = BiaxialTest(case)
     task = bar.add_task(f"biaxial {label} compact", total=None, status="") if bar else None
@@ -70,9 +71,16 @@ def run_one(case: BiaxialCase, bar=None, label: str = "") -> tuple[dict, Biaxial
             bar.update(task, status=f"sigma1 {s.sigma_1 / 1e3:.2f} sigma3 {s.sigma_3 / 1e3:.2f} kPa")
     if bar:
         bar.update(task, description=f"biaxial {label} shear", total=case.max_strain * 1e4, completed=0)
+    marks = [m * case.max_strain / 10 for m in range(1, 11)]
+    if on_frame is not None:
+        on_frame(test.sim.frame())
     for s in test.shear():
         if bar:
             bar.update(task, completed=s.eps_axial * 1e4, status=f"phi {s.phi_mob:.1f} deg")
+        if on_frame is not None and marks and s.eps_axial >= marks[0]:
+            on_frame(test.sim.frame())
+            while marks and s.eps_axial >= marks[0]:
+                marks.pop(0)
     res = test.result()
     wall = time.perf_counter() - t0
     out = {**dataclasses.asdict(res),
@@ -111,8 +119,13 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
             Path(card).parent.mkdir(parents=True, exist_ok=True)
             atomic_write(card, (json.dumps(to_plain(_card(plan, tests, rf, mu_cal)), indent=2) + "\n").encode())
 
+    def recorder(label: str):
+        """--vtk: each test's frames in vtk/<label>/ (each test has its own clock)."""
+        return open_recording(None, study="biaxial", recording_id=f"{rf.path.name}-{label}", dim=2, folder=rf,
+                              part=label)
+
     with progress(quiet) as bar:
-        mu_cal = _run_tests(plan, tests, bar, save_card)
+        mu_cal = _run_tests(plan, tests, bar, save_card, recorder)
     _write_curves(rf, tests)
     result = _card(plan, tests, rf, mu_cal)
     result["calibrated_friction_peak"] = interpolate_friction(tests[:len(plan.frictions)], plan.target_phi,
@@ -137,15 +150,21 @@ def _card(plan: CalibrationPlan, tests: list[dict], rf: RunFolder, mu_cal: float
             "run_folder": str(rf.path)}
 
 
-def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card) -> float:
+def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card, recorder=None) -> float:
     """The friction series at the plan's confining stress, then the pressure series at
     the calibrated friction; each test is appended to ``tests`` and ``save_card`` called
-    after it. Returns the calibrated friction (nan when the series does not bracket the
-    target phi)."""
-    for mu in plan.frictions:
-        case = dataclasses.replace(plan.case, friction=float(mu))
-        out, _, _ = run_one(case, bar, f"mu={mu:g}")
+    after it; ``recorder(label)`` opens a test's recording. Returns the calibrated
+    friction (nan when the series does not bracket the target phi)."""
+    def one(case, label: str, part: str) -> None:
+        rec = recorder(part) if recorder is not None else None
+        on_frame = rec.log_frame if rec is not None and rec.enabled else None
+        out, _, _ = run_one(case, bar, label, on_frame)
+        if rec is not None:
+            rec.close()
         tests.append(out)
+
+    for mu in plan.frictions:
+        one(dataclasses.replace(plan.case, friction=float(mu)), f"mu={mu:g}", f"mu{mu:g}")
         save_card(float("nan"))
     mu_cal = interpolate_friction(tests, plan.target_phi)
     if not math.isfinite(mu_cal):
@@ -155,9 +174,8 @@ def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card) -> floa
     else:
         mu_near = mu_cal
     for p in plan.pressures:
-        case = dataclasses.replace(plan.case, friction=mu_near, confining=float(p))
-        out, _, _ = run_one(case, bar, f"mu={mu_near:.3f} p={p / 1e3:g}kPa")
-        tests.append(out)
+        one(dataclasses.replace(plan.case, friction=mu_near, confining=float(p)),
+            f"mu={mu_near:.3f} p={p / 1e3:g}kPa", f"mu{mu_near:.3f}-p{p / 1e3:g}kPa")
         save_card(mu_cal)
     return mu_cal
 

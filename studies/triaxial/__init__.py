@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 from analytic.inputs import MAX_PRESSURE_KPA
 
-from ..options import kpa_to_pa, number
+from ..options import VTK, kpa_to_pa, number
 from ..study import Command, Option, Study
 
 
@@ -25,13 +25,15 @@ def _default_case():
 
 def _calibrate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
-    from ..runner import finish, open_run_folder
+    from ..runner import finish, open_recording, open_run_folder
     from .lab import calibrate_triaxial
 
     folder = open_run_folder("triaxial", case, opts.out)      # the card is shared; the run has its folder
+    rec = open_recording(None, study="triaxial", recording_id=folder.path.name, dim=3, folder=folder)
     with progress(opts.quiet) as bar:
         card, path = calibrate_triaxial(case, case.setup, particles=case.specimen.particles, root=Path(opts.out),
-                                        progress=bar)
+                                        progress=bar, on_frame=rec.log_frame if rec.enabled else None)
+    rec.close()
     result = dict(card) | {"card": str(path), "run_folder": str(folder.path)}
     finish(folder, result, particles=card.get("particles"), seed=case.seed)
     return result, f"calibration card: {path}\nrun folder: {folder.path}"
@@ -51,7 +53,8 @@ CALIBRATE = Command(
     default_case=_default_case, run=_calibrate, text=_text, busy_note=True, footprint=_footprint,
     options=(Option("--particles", "spheres (8200, the paper's)", key="specimen.particles"),
              Option("--confining", "confining stress [kPa] (200)", key="setup.confining",
-                    parse=number("confining", 0, MAX_PRESSURE_KPA, hi_open=False, unit="kPa"), to_case=kpa_to_pa)))
+                    parse=number("confining", 0, MAX_PRESSURE_KPA, hi_open=False, unit="kPa"), to_case=kpa_to_pa),
+             VTK))
 
 STUDY = Study(name="triaxial", title="Triaxial test of the Nadukuru backfill (phi for the theories)",
               commands=(CALIBRATE,))

@@ -136,9 +136,10 @@ _LATERAL = (True, True, True, True, False, False)
 
 
 def run_triaxial(rec: SpecimenRecipe, setup: TriaxialSetup = TriaxialSetup(), *, seed: int = 1,
-                 particles: int = 8200, progress=None) -> TriaxialResult:
+                 particles: int = 8200, progress=None, on_frame=None) -> TriaxialResult:
     """Build, compact and shear a cubical specimen of ``particles`` spheres (incl. clump
-    members) with the grains of ``rec``; see the module docstring."""
+    members) with the grains of ``rec``; see the module docstring. ``on_frame(frame)``:
+    the specimen when compacted and at every tenth of the shear strain."""
     rng = np.random.default_rng(seed)
     spec, side0 = _loose_cube(rec, particles, rng)
     servo = [ServoVelocity() for _ in range(6)]
@@ -152,7 +153,7 @@ def run_triaxial(rec: SpecimenRecipe, setup: TriaxialSetup = TriaxialSetup(), *,
     target = np.full(6, setup.confining)
     compaction_steps = _compact(cell, target, setup, progress)
     dims0, porosity0 = _rebalance(cell, rec, target, setup)
-    eps_a, eps_v, s1, s3 = _shear(cell, rec, target, setup, dims0, progress)
+    eps_a, eps_v, s1, s3 = _shear(cell, rec, target, setup, dims0, progress, on_frame)
     res = TriaxialResult(np.array(eps_a), np.array(eps_v), np.array(s1), np.array(s3), porosity0,
                          sim.n_spheres, float(dims0[0]))
     res.steps = {"compaction": compaction_steps, "total": sim.step_count, "dt": dt}
@@ -253,10 +254,12 @@ def _rebalance(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray,
 
 
 def _shear(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: TriaxialSetup,
-           dims0: np.ndarray, progress) -> tuple[list, list, list, list]:
+           dims0: np.ndarray, progress, on_frame=None) -> tuple[list, list, list, list]:
     """Stage 3: the top platen moves down at the strain rate to ``max_strain`` (local
     damping off); the lateral platens hold sigma_3. Returns, per chunk, axial and
-    volumetric strain (compression +) and sigma_1, sigma_3 [Pa]."""
+    volumetric strain (compression +) and sigma_1, sigma_3 [Pa]. ``on_frame``: called
+    with the specimen's frame at the start and each time another tenth of
+    ``max_strain`` is reached."""
     sim, servo, normal = cell.sim, cell.servo, cell.normal
     sim.set_params(_contact(rec, rec.particle_friction, 0.0))
     H0 = dims0[2]
@@ -266,6 +269,9 @@ def _shear(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: Tri
     eps_a, eps_v, s1, s3 = [], [], [], []
     V0 = float(np.prod(dims0))
     shear_task = progress.add_task("triaxial: shearing", total=n_steps, status="") if progress else None
+    marks = list(np.linspace(0.0, setup.max_strain, 11)[1:])
+    if on_frame is not None:
+        on_frame(dem3d.frame(sim))
     done = 0
     while done < n_steps:
         k = min(setup.chunk, n_steps - done)
@@ -276,6 +282,10 @@ def _shear(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: Tri
         eps_v.append(1.0 - float(np.prod(dims)) / V0)
         s1.append(0.5 * (sig[4] + sig[5]))
         s3.append(float(np.mean(sig[:4])))
+        if on_frame is not None and marks and (eps_a[-1] >= marks[0] or done >= n_steps):
+            on_frame(dem3d.frame(sim))
+            while marks and eps_a[-1] >= marks[0]:
+                marks.pop(0)
         if shear_task is not None:
             progress.update(shear_task, advance=k, status=f"eps {eps_a[-1]:.3f}")
     return eps_a, eps_v, s1, s3
@@ -300,10 +310,10 @@ def _solid_volume(sim) -> float:
     return float(np.sum(sim.body_masses())) / sim.density
 
 
-def calibrate_triaxial(case, setup: TriaxialSetup, *, particles: int, root, progress=None):
+def calibrate_triaxial(case, setup: TriaxialSetup, *, particles: int, root, progress=None, on_frame=None):
     """Run the triaxial test for the case's recipe and write its calibration card
     (JSON: phi at peak and at the end, strains, porosity, provenance) where
-    ``compare nadukuru`` finds it. Returns (card, path)."""
+    ``compare nadukuru`` finds it (``on_frame``: as ``run_triaxial``). Returns (card, path)."""
     import dataclasses
     import json
     import time
@@ -311,7 +321,8 @@ def calibrate_triaxial(case, setup: TriaxialSetup, *, particles: int, root, prog
     from ..runfolder import package_versions
 
     t0 = time.perf_counter()
-    res = run_triaxial(case.specimen, setup, seed=case.seed, particles=particles, progress=progress)
+    res = run_triaxial(case.specimen, setup, seed=case.seed, particles=particles, progress=progress,
+                       on_frame=on_frame)
     card = {
         "test": "cubical triaxial (six rigid platens, sigma_2 = sigma_3), gravity off",
         "phi_peak_deg": res.phi_peak_deg, "strain_at_peak": res.strain_at_peak, "phi_end_deg": res.phi_end_deg,

@@ -144,7 +144,7 @@ def test_frame_has_the_contract_fields_for_disks_clumps_and_blocks():
     assert Frame._fields == ("step", "time", "positions", "radii", "velocities", "body_id", "contact_a",
                              "contact_b", "contact_force", "panel_corners", "panel_normal", "panel_force",
                              "panel_area", "block_outlines", "panel_moment", "particle_force", "material",
-                             "contact_shear", "contact_bonded")
+                             "contact_shear", "bond_a", "bond_b", "bond_force", "bond_shear")
     assert fr.panel_moment is None          # one record for both engines; 2D panels carry no moment
     assert fr.positions.shape == (4, 2) and fr.radii.shape == (4,)   # 2 disks + a clump of 2 circles
     assert list(fr.body_id) == [0, 1, 2, 2]
@@ -154,7 +154,7 @@ def test_frame_has_the_contract_fields_for_disks_clumps_and_blocks():
     assert len(fr.contact_a) == len(fr.contact_b) == len(fr.contact_force)
     assert np.all(fr.contact_force >= 0)
     assert fr.contact_shear.shape == fr.contact_force.shape and np.all(fr.contact_shear >= 0)
-    assert fr.particle_force.shape == (4, 2) and fr.material is None and fr.contact_bonded is None
+    assert fr.particle_force.shape == (4, 2) and fr.material is None and fr.bond_a is None
     # a clump's two circles carry their body's force
     assert np.array_equal(fr.particle_force[2], fr.particle_force[3])
     # the clump's circles sit at +-0.5 R from its centre along its axis

@@ -89,6 +89,35 @@ def test_dem3d_nadukuru_run_reads_back(tmp_path, monkeypatch):
         assert np.array_equal(_cell_array(cm, "normal_force").ravel(), frame.contact_force)
 
 
+def test_dem3d_bonds_are_lines_of_their_own(tmp_path):
+    """The seismic sheet pile's bonded balls: every intact bond is a line with bonded = 1
+    after the touching pairs (bonded = 0), carrying the bond's own forces."""
+    from studies.seismic.case import SeismicCase
+    from studies.seismic.compare import compare_seismic
+    from studies.runner import command_envelope
+    from tests.studies.test_seismic import TINY
+
+    frames = []
+    original = VtkSeries.write_frame
+
+    def keep(self, frame):
+        frames.append(frame)
+        return original(self, frame)
+
+    with pytest.MonkeyPatch.context() as m, command_envelope(vtk=True):
+        m.setattr(VtkSeries, "write_frame", keep)
+        result, folder = compare_seismic(SeismicCase(**TINY), root=tmp_path, record=False, strain_times=())
+    contacts = _collection(Path(folder) / "vtk", "contacts")
+    assert len(contacts) == len(frames) >= 2
+    frame, mesh = frames[-1], meshio.read(contacts[-1][1])
+    touching, bonds = len(frame.contact_force), len(frame.bond_force)
+    assert bonds > 0 and _cells(mesh, "line") == touching + bonds
+    bonded = _cell_array(mesh, "bonded").ravel()
+    assert not bonded[:touching].any() and bonded[touching:].all()
+    assert np.array_equal(_cell_array(mesh, "normal_force").ravel()[touching:], frame.bond_force)
+    assert len(_collection(Path(folder) / "vtk", "sheet_pile")) > len(contacts)   # the pile: every sample
+
+
 def test_dem2d_khosravi_run_reads_back(tmp_path, monkeypatch):
     from studies.khosravi.case import KhosraviCase
 
@@ -161,3 +190,33 @@ def test_a_resumed_series_keeps_the_frames_before_the_interruption(tmp_path):
     assert [t for t, _ in _collection(tmp_path, "particles")] == [0.5, 1.0, 1.5]
     assert json.loads((tmp_path / "frames.json").read_text())["frames"]["contacts"][-1][1] == "contacts_0000000003.vtu"
     assert not list(tmp_path.glob(".*"))                                # no temporary file left
+
+
+def test_calibrations_write_each_test_as_its_own_series(tmp_path):
+    """calibrate triaxial (dem3d) and biaxial (dem2d) with --vtk: the specimen when
+    compacted and at every tenth of the shear strain (11 frames a test), each biaxial
+    test in a folder of its own (each test has its own clock); all grains in every
+    frame, and (dem3d) the platens' forces balanced by the grains' (Newton's third law)."""
+    import cli
+
+    out = tmp_path / "runs"
+    assert cli.main(["calibrate", "triaxial", "--particles", "600", "--vtk", "--out", str(out), "--quiet"]) == 0
+    run = next((out / "triaxial").iterdir())
+    card = json.loads((run / "result.json").read_text())
+    particles, walls = _collection(run / "vtk", "particles"), _collection(run / "vtk", "walls")
+    assert len(particles) == len(walls) == 11
+    for (_, p), (_, w) in zip(particles, walls):
+        pm, wm = meshio.read(p), meshio.read(w)
+        assert len(pm.points) == card["particles"] and _cells(wm, "polygon") == 6
+        platens = _cell_array(wm, "force")            # opposite platens: the net is ~1e-3 of each
+        assert np.abs(pm.point_data["force"].sum(axis=0) + platens.sum(axis=0)).max() < 1e-9 * np.abs(platens).max()
+
+    assert cli.main(["calibrate", "biaxial", "--friction", "0.3,0.5", "--particles-scale", "5", "--vtk",
+                     "--out", str(out), "--quiet"]) == 0
+    run = next((out / "biaxial").iterdir())
+    result = json.loads((run / "result.json").read_text())
+    assert sorted(result["vtk"]["parts"]) == ["mu0.3", "mu0.5"]
+    for test in result["tests"]:
+        particles = _collection(run / "vtk" / f"mu{test['friction']:g}", "particles")
+        assert len(particles) == 11
+        assert all(len(meshio.read(p).points) == test["n_grains"] for _, p in particles)
