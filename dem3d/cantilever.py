@@ -36,6 +36,7 @@ import numpy as np
 from analytic.errors import InvalidParameter
 
 from .engine import Simulation
+from .run import frame
 from .params import linear
 from .state import Specimen
 
@@ -114,7 +115,8 @@ class CantileverResult(NamedTuple):
 def cantilever_check(youngs: float = 40e9, thickness: float = 5e-3, length: float = 0.135, *,
                      density: float = 4000.0, layers: int = 2, radius_multiplier: float = 1.0,
                      shear_ratio: float = 1.0, tip_deflection_ratio: float = 1e-3,
-                     dt_fraction: float = 0.2, tolerance: float = 1e-4, progress=None) -> CantileverResult:
+                     dt_fraction: float = 0.2, tolerance: float = 1e-4, progress=None,
+                     on_frame=None) -> CantileverResult:
     """Build the bonded strip calibrated by ``calibrate_strip``, clamp row 0, load the
     tip row across the strip with F giving a beam deflection ``tip_deflection_ratio`` L
     (small: linear theory), relax with local damping 0.7 until the tip moves less than
@@ -123,7 +125,8 @@ def cantilever_check(youngs: float = 40e9, thickness: float = 5e-3, length: floa
     crossings about the unloaded position, linearly interpolated).
     ``dt_fraction`` x the bonds' critical step is the time step; ``progress(stage, done,
     total)`` is called after every chunk of steps ("relax" counts chunks of at most 400,
-    "vibrate" samples)."""
+    "vibrate" samples); ``on_frame(frame)`` with the strip relaxed under the load and
+    every 20 samples of the vibration (about 10 a period)."""
     prm = calibrate_strip(youngs, thickness, layers=layers, radius_multiplier=radius_multiplier,
                           shear_ratio=shear_ratio)
     spec, row = strip_specimen(length, thickness, layers=layers, density=density)
@@ -165,6 +168,8 @@ def cantilever_check(youngs: float = 40e9, thickness: float = 5e-3, length: floa
             break
         last = tip_x
     deflection = _tip(sim, tip) - x0
+    if on_frame is not None:
+        on_frame(frame(sim))
     sim.clear_external_force()
     sim.set_params(law._replace(local_damping=0.0), allow_unsafe_dt=True)
     times, values = [], []
@@ -175,6 +180,8 @@ def cantilever_check(youngs: float = 40e9, thickness: float = 5e-3, length: floa
         steps += sample
         if progress is not None and (k % 20 == 19 or k == n_samples - 1):
             progress("vibrate", k + 1, n_samples)
+        if on_frame is not None and k % 20 == 19:
+            on_frame(frame(sim))
         times.append(sim.time)
         values.append(_tip(sim, tip) - x0)
     frequency = _frequency(np.array(times), np.array(values))

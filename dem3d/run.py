@@ -30,12 +30,7 @@ def _touching(sim: Simulation):
     i = np.searchsorted(prs.start, k, side="right") - 1
     j = prs.nbr[k]
     x = sim.spheres.x
-    d = x[j] - x[i]
-    if sim.periodic is not None:
-        ax = sim.periodic.axis
-        length = sim.periodic.length
-        d[:, ax] -= length * np.round(d[:, ax] / length)
-    return i, j, d, k
+    return i, j, _minimum_image(sim, x[j] - x[i]), k
 
 
 def _shear(force: np.ndarray, d: np.ndarray) -> np.ndarray:
@@ -45,16 +40,27 @@ def _shear(force: np.ndarray, d: np.ndarray) -> np.ndarray:
     return np.linalg.norm(force - along[:, None] * n, axis=1)
 
 
-def _bonded(sim: Simulation, i: np.ndarray, j: np.ndarray) -> np.ndarray | None:
-    """(m,) True where an intact bond joins spheres i and j (engine order); None without bonds."""
+def _bonds(sim: Simulation) -> dict:
+    """The Frame fields of the intact bonds: centres of both spheres (the second
+    periodic-unwrapped) [m], normal force (compression +) and shear magnitude [N]."""
     b = sim.bonds
     if b is None:
-        return None
-    n = np.int64(sim.n_spheres)
+        return {}
     intact = b.state > 0
-    lo, hi = np.minimum(b.i[intact], b.j[intact]).astype(np.int64), np.maximum(b.i[intact], b.j[intact])
-    keys = lo * n + hi
-    return np.isin(np.minimum(i, j).astype(np.int64) * n + np.maximum(i, j), keys)
+    i, j = b.i[intact], b.j[intact]
+    x = sim.spheres.x
+    d = _minimum_image(sim, x[j] - x[i])
+    return {"bond_a": x[i].copy(), "bond_b": x[i] + d, "bond_force": b.fn[intact].copy(),
+            "bond_shear": np.linalg.norm(b.fs[intact], axis=1)}
+
+
+def _minimum_image(sim: Simulation, d: np.ndarray) -> np.ndarray:
+    """Separations d (m,3) wrapped to the shortest across the periodic axis, if any."""
+    if sim.periodic is not None:
+        ax = sim.periodic.axis
+        length = sim.periodic.length
+        d[:, ax] -= length * np.round(d[:, ax] / length)
+    return d
 
 
 def frame(sim: Simulation) -> Frame:
@@ -78,8 +84,7 @@ def frame(sim: Simulation) -> Frame:
                  contact_force=pf[:, 6].copy(), panel_corners=corners, panel_normal=sim.walls.panels.normal.copy(),
                  panel_force=sim.panel_force.copy(), panel_moment=sim.panel_moment.copy(),
                  panel_area=sim.walls.areas(), particle_force=specimen_order(sim.spheres.f),
-                 material=specimen_order(sim.spheres.mat), contact_shear=_shear(pf[:, 0:3], d),
-                 contact_bonded=_bonded(sim, i, j))
+                 material=specimen_order(sim.spheres.mat), contact_shear=_shear(pf[:, 0:3], d), **_bonds(sim))
 
 
 def run(sim: Simulation, n_steps: int, every: int) -> Iterator[Frame]:

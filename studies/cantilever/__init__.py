@@ -15,6 +15,7 @@ from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 from analytic.schema import check_fields, param
 
+from ..options import VTK
 from ..study import Command, Option, Study
 
 
@@ -85,17 +86,20 @@ def _calibrate(case: CantileverCase, opts: SimpleNamespace) -> tuple[dict, str]:
     from dem3d.cantilever import cantilever_check
 
     from ..progress import progress
-    from ..runner import Stopwatch, finish, open_run_folder
+    from ..runner import Stopwatch, finish, open_recording, open_run_folder
 
     clock = Stopwatch()
     folder = open_run_folder("cantilever", case, opts.out)
+    rec = open_recording(None, study="cantilever", recording_id=folder.path.name, dim=3, folder=folder)
     with progress(opts.quiet) as bar:
         tasks = {"relax": bar.add_task("loaded tip relaxing (chunks, stops when still)", total=400, status=""),
                  "vibrate": bar.add_task("free vibration (samples)", total=1, status="")}
         r = cantilever_check(case.youngs, case.thickness, case.length, density=case.density, layers=case.layers,
                              radius_multiplier=case.radius_multiplier, shear_ratio=case.shear_ratio,
                              progress=lambda stage, done, total: bar.update(tasks[stage], completed=done,
-                                                                            total=total))
+                                                                            total=total),
+                             on_frame=rec.log_frame if rec.enabled else None)
+    rec.close()
     result = {"case": "cantilever", "particles": r.n_spheres,
               "bond": {"kn_N_per_m3": r.bonds.kn, "ks_N_per_m3": r.bonds.ks, "radius_multiplier": r.bonds.radius_multiplier,
                        "ball_radius_m": r.bonds.ball_radius, "EI_per_width_N_m2_per_m": r.bonds.ei_per_width},
@@ -124,7 +128,7 @@ CALIBRATE = Command(
     default_case=CantileverCase, run=_calibrate, text=_text, seed_key=None,
     options=(Option("--E", "Young's modulus [Pa] (4e10)", key="youngs"),
              Option("--thickness", "wall thickness [m] (0.005)", key="thickness"),
-             Option("--length", "cantilever length [m] (0.135)", key="length")))
+             Option("--length", "cantilever length [m] (0.135)", key="length"), VTK))
 
 STUDY = Study(name="cantilever", title="Bonded-ball sheet pile: bond stiffness for a target EI (Sizkow & El Shamy)",
               commands=(CALIBRATE,))
