@@ -38,8 +38,10 @@ class Frame(NamedTuple):
     material:       (n,) material id of each row (3D: row of the engine's material
                     table), or None (one material)
     contact_shear:  (m,) magnitude of the tangential force of each contact [N; N/m], or None
-    contact_bonded: (m,) True where an intact parallel bond joins the contact's spheres
-                    (3D), or None (no bonds)
+    bond_a/b:       3D only: (k, 3) centres of the two spheres of each intact parallel
+                    bond [m] (b periodic-unwrapped), or None (a run without bonds)
+    bond_force:     (k,) normal force of each intact bond, compression positive [N]
+    bond_shear:     (k,) magnitude of its shear force [N]
     """
 
     step: int
@@ -60,7 +62,10 @@ class Frame(NamedTuple):
     particle_force: np.ndarray | None = None
     material: np.ndarray | None = None
     contact_shear: np.ndarray | None = None
-    contact_bonded: np.ndarray | None = None
+    bond_a: np.ndarray | None = None
+    bond_b: np.ndarray | None = None
+    bond_force: np.ndarray | None = None
+    bond_shear: np.ndarray | None = None
 
 
 def panel_normal_stress(frame) -> np.ndarray:

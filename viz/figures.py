@@ -385,7 +385,6 @@ def plot_wall_design(case, result, path) -> Path:
     distribution (kPa, drawn below the base) of the combination heading ``result``."""
     from analytic.design.actions import thrust_for, uses_virtual_back, wall_forces
     from analytic.design.checks import base_pressure
-    from analytic.design.report import _lead
 
     wall, unit = case.wall, {"phi": 1.0, "c": 1.0, "cu": 1.0, "gamma": 1.0}
     blocks = wall.kind == "blocks"
@@ -412,7 +411,7 @@ def plot_wall_design(case, result, path) -> Path:
     for f in forces:
         ax.annotate("", (f.x, f.y), (f.x + f.Fh * scale, f.y + f.Fv * scale),
                     arrowprops=dict(arrowstyle="->", color="C3" if f.Fh else "C0", lw=1.2))
-    lead = _lead(result)
+    lead = result.lead
     if not blocks and lead.V_d > 0 and abs(lead.e) < wall.B / 2:
         x, q = base_pressure(lead.V_d, lead.e, wall.B)
         qs = 0.15 * wall.H / max(q.max(), 1e-9)

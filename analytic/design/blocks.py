@@ -37,6 +37,7 @@ from .case import GAMMA_W, DesignCase, design_angle
 from .checks import factor_of, make_check, overturning_moments, resultant
 from .earth import design_thrust
 from .geometry import area_centroid
+from .results import CombinationResult, bearing_checks
 from .walls import Part, WallBack
 
 
@@ -221,7 +222,6 @@ def evaluate_blocks(case: DesignCase, combo, *, kh: float = 0.0, kv: float = 0.0
     """Every bed joint's checks; the worst sliding and toppling become the combination's
     'sliding' and 'overturning'; with a foundation, bearing and eccentricity of the base
     (B = b, the base's tilt neglected)."""
-    from .formats import CombinationResult, _bearing
     rows = [joint_checks(case, combo, z, kh, kv) for z in case.wall.joints()]
     out = CombinationResult(combo.name, B=case.wall.B, kh=kh, kv=kv)
     out.joints = rows
@@ -234,7 +234,7 @@ def evaluate_blocks(case: DesignCase, combo, *, kh: float = 0.0, kv: float = 0.0
         g = [factor_of(f, combo, "bearing", 0.0, False) for f in forces]
         V, H, M = resultant(forces, g)
         out.e = case.wall.B / 2 - M / V
-        bchecks, out.q_ult, out.B_eff = _bearing(case, combo, V, H, out.e)
+        bchecks, out.q_ult, out.B_eff = bearing_checks(case, combo, V, H, out.e)
         for c in bchecks:
             out.checks[c.name] = c
         out.checks["eccentricity"] = make_check("eccentricity", abs(out.e), ecc_limit * case.wall.B)

@@ -91,20 +91,9 @@ def _check_json(label: str, c) -> dict:
             "combination": label, "note": c.note}
 
 
-def _lead(result: FormatResult):
-    """The combination whose values head the output: the one governing bearing (or the
-    worst overall)."""
-    key = "bearing" if "bearing" in result.worst else result.governing[0]
-    label = result.worst[key][0]
-    for r in result.combinations:
-        if label.startswith(r.name) and (r.kv == 0 or f"{r.kv:+.4f}" in label):
-            return r
-    return result.combinations[0]
-
-
 def design_json(case: DesignCase, result: FormatResult, fs_required: dict | None = None) -> dict:
     """The JSON of one format (keys of issue 29; 'fs' adds the factors of safety)."""
-    lead = _lead(result)
+    lead = result.lead
     out = {"format": result.format, "wall": case.wall.kind, "B_m": lead.B}
     if result.format == "fs":
         fs = factors_of_safety(result)
@@ -130,7 +119,7 @@ def design_json(case: DesignCase, result: FormatResult, fs_required: dict | None
 
 def design_text(case: DesignCase, result: FormatResult) -> str:
     """A plain-text table of the checks, the governing one and the conventions."""
-    lead = _lead(result)
+    lead = result.lead
     if "bearing" in result.worst:
         where = f"  e = {lead.e:.3f} m  B' = {lead.B_eff:.3f} m  q_ult = {lead.q_ult:.1f} kPa  K = {lead.K:.4f}"
     elif result.format == "EQU":
