@@ -461,7 +461,7 @@ def _cmd_study(cmd, args) -> int:
     with cmd.envelope(case, _setting_sources(cmd, args), opts):
         result, where = cmd.run(case, opts)
     if args.json:
-        from studies.runfolder import to_plain
+        from studies.store import to_plain
         print(json.dumps(to_plain(result), indent=2, default=str))     # NaN -> null: JSON has no NaN
     else:
         shown = cmd.text(result)
@@ -486,7 +486,7 @@ def _check_run_options(opts) -> None:
 def _cmd_seeds(cmd, args) -> int:
     """``--seeds``: the command once per seed on Dask, the seeds report (studies/seeds.py)."""
     from analytic.errors import InvalidParameter
-    from studies.runfolder import to_plain
+    from studies.store import to_plain
     from studies.seeds import run_seeds, seeds_text
 
     if hasattr(args, "seed"):
@@ -577,7 +577,7 @@ def _cmd_sweep(args) -> int:
     except KeyboardInterrupt:
         print(f"wallsim: interrupted; {_finished_since(args.out, args.study, started, 'points')}", file=sys.stderr)
         return EXIT_INTERRUPTED
-    from studies.runfolder import to_plain
+    from studies.store import to_plain
     print(json.dumps(to_plain(table), indent=2) if args.json else sweep_text(table))     # NaN -> null
     failed = [p for p in table["points"] if p["status"] == "failed"]
     for p in failed:
@@ -605,7 +605,7 @@ def _cmd_keys(args) -> int:
     cmd = get(args.study).command(args.verb)
     rows = describe_keys(cmd.default_case())
     if args.json:
-        from studies.runfolder import to_plain
+        from studies.store import to_plain
         print(json.dumps([to_plain(r) for r in rows], indent=2))
         return 0
     for r in rows:      # two lines a key: nothing is cut, whatever the terminal's width

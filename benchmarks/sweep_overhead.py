@@ -99,7 +99,7 @@ def main() -> None:
     one = on_dask(varied, sets, options, tmp / "dask1", 1)
     two = on_dask(varied, sets, options, tmp / "dask2", 2)
     after = _machine()
-    from studies.runfolder import to_plain
+    from studies.store import to_plain
     names = list(s["outputs"][0])
     for run in (one, two):                       # the same numbers, bit for bit (NaN as null in both)
         assert [[p[n] for n in names] for p in run["points"]] == to_plain([[o[n] for n in names] for o in s["outputs"]])

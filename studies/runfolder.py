@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import csv
 import io
-import dataclasses
 import json
 import math
 import os
@@ -34,7 +33,7 @@ import tomli_w
 
 import reproducibility
 
-from .store import atomic_write
+from .store import atomic_write, to_plain
 
 
 def package_versions() -> dict[str, str]:
@@ -61,25 +60,6 @@ def git_revision(repo: Path | None = None) -> str:
         return (rev + ("+dirty" if dirty else "")) if rev else "unknown"
     except (OSError, subprocess.SubprocessError):
         return "unknown"
-
-
-def to_plain(obj):
-    """Dataclasses, numpy scalars/arrays and paths -> JSON/TOML-friendly Python values."""
-    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
-    if isinstance(obj, dict):
-        return {str(k): to_plain(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_plain(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_plain(obj.tolist())
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, Path):
-        return str(obj)
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
 
 
 def _toml_ready(obj):

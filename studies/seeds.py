@@ -143,8 +143,7 @@ def figure_summary(target: dict, values: dict, group: dict) -> dict:
 
 def write_seeds_report(report: dict, docs: Path) -> dict:
     """``<docs>/<study>_seeds.json`` and ``.md``; returns the report with their paths."""
-    from .runfolder import to_plain
-    from .store import atomic_write
+    from .store import atomic_write, to_plain
     stem = docs / f"{report['study']}_seeds"
     report["paths"] = {"json": str(stem.with_suffix(".json")), "md": str(stem.with_suffix(".md"))}
     atomic_write(stem.with_suffix(".json"), (json.dumps(to_plain(report), indent=1) + "\n").encode())

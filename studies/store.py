@@ -9,9 +9,11 @@ run never leaves half a file for the next one to read.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import io
 import json
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -19,11 +21,28 @@ from pathlib import Path
 import numpy as np
 
 
+def to_plain(obj):
+    """Dataclasses, numpy scalars/arrays and paths -> JSON/TOML-friendly Python values."""
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+    if isinstance(obj, dict):
+        return {str(k): to_plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_plain(obj.tolist())
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
 
 def content_key(obj, length: int = 16) -> str:
     """Hex SHA-256 of ``obj`` as sorted JSON (dataclasses and numpy values made plain),
     cut to ``length`` characters."""
-    from .runfolder import to_plain
     blob = json.dumps(to_plain(obj), sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:length]
 
@@ -103,7 +122,6 @@ class Store:
         return json.loads(p.read_text()) if p.exists() else None
 
     def save_json(self, key: str, obj) -> Path:
-        from .runfolder import to_plain
         return atomic_write(self.path(key, ".json"), (json.dumps(to_plain(obj), indent=2) + "\n").encode())
 
 

@@ -21,6 +21,7 @@ from typing import Any, Callable
 from analytic.errors import InvalidParameter
 
 from .config import resolve_case, set_value
+from .registry import NAMES
 
 
 @dataclass(frozen=True)
@@ -134,11 +135,6 @@ class Command:
         return SimpleNamespace(**(opts | given))
 
 
-def _study_names() -> tuple[str, ...]:
-    from . import NAMES
-    return NAMES
-
-
 def _resume_config(resume: str, study: str | None) -> str:
     """The config.toml of the run folder ``resume``, which must be a run of ``study``."""
     folder = Path(resume)
@@ -146,7 +142,7 @@ def _resume_config(resume: str, study: str | None) -> str:
     if not resume or not config.is_file():
         raise InvalidParameter("--resume", resume, "a run folder with a config.toml")
     other = folder.resolve().parent.name
-    if study is not None and other != study and other in _study_names():
+    if study is not None and other != study and other in NAMES:
         raise InvalidParameter("--resume", resume, f"a run folder of {study} (runs/{study}/...)",
                                f"it is a run of {other}")
     return str(config)

@@ -268,8 +268,7 @@ def _point_files(study, verb: str | None, folder: Path, options: dict, result: d
     command other than the main one, its result as ``<verb>.json`` (last: it marks the
     point finished)."""
     import json
-    from .runfolder import to_plain
-    from .store import atomic_write
+    from .store import atomic_write, to_plain
     if not (folder / "run_options.json").is_file():
         atomic_write(folder / "run_options.json", (json.dumps(to_plain(options), indent=2) + "\n").encode())
     if not is_main(study, verb):
@@ -296,7 +295,7 @@ def build_points(study, varied, *, config: str | None = None, sets: list[str] | 
     value that the case refuses is that point's ``error`` (case None), the others go on.
     A command other than the main one prefixes its points' names with its verb."""
     from .config import case_value
-    from .runfolder import to_plain
+    from .store import to_plain
     cmd = study.command(verb)
     default = cmd.resolve(config=config, flags=flags, sets=sets)    # a bad --set/--config stops everything
     cmd.run_options(**(options or {}))                                # an unknown run option too
@@ -547,8 +546,7 @@ def write_tables(study: str, varied, built: list[dict], out, seed_key: str | Non
     sweep.csv (points), sweep_groups.csv (groups) and, with ``figure``, sweep.png in
     ``out``; returns ``{"points", "groups"}`` as in sweep.json."""
     import json
-    from .runfolder import to_plain
-    from .store import atomic_write
+    from .store import atomic_write, to_plain
     names = chosen_outputs(built, outputs)
     rows = point_rows(built, names)
     group_keys = [k for k, _ in varied if not is_seed(k, seed_key)]

@@ -23,9 +23,9 @@ from analytic.schema import check_fields, param
 from dem2d.biaxial import MAX_CONFINING_PA, MAX_FRICTION, BiaxialCase, BiaxialTest
 from dem2d.params import Solver
 from studies.progress import progress
-from studies.runfolder import RunFolder, to_plain
+from studies.runfolder import RunFolder
 from studies.runner import finish, open_recording, open_run_folder
-from studies.store import atomic_write
+from studies.store import atomic_write, to_plain
 from studies.store import find_card_entry
 
 #: the card committed with the validation report

@@ -28,6 +28,11 @@ def reference() -> dict:
     return json.loads(REFERENCE.read_text())
 
 
+#: the validation's tolerances (reference.json: kept with the targets, out of code)
+ACCURACY_LIMIT_PERCENT = float(reference()["tolerances"]["critical_height_vs_measured_percent"])
+CONVERGENCE_LIMIT_PERCENT = float(reference()["tolerances"]["convergence_change_percent"])
+
+
 @dataclass(frozen=True)
 class BackfillSettings:
     """Case B (``dem2d.backfill``), used by the C walls only. Local values: ours from

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ..report import check, checks_markdown
 from ..store import atomic_write
-from .validate import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT
+from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT
 
 DEFAULT_GEOMETRY_WHY = (
     "The default geometry is the **back-fit** of reference 2.3 (base widths fitted with the section-5 "

@@ -21,14 +21,13 @@ from pathlib import Path
 
 import reproducibility
 
-from ..runfolder import git_revision, package_versions, to_plain
+from ..runfolder import git_revision, package_versions
+
 from ..runner import finished_result, reusing_line
-from ..store import atomic_write, content_key
-from .case import GEOMETRIES, DrystoneCase, reference
+from ..store import atomic_write, content_key, to_plain
+from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT, GEOMETRIES, DrystoneCase, reference
 from .run import RIGID_NOTE, increment_logger, limit_equilibrium, run_dem, wall_result
 
-CONVERGENCE_LIMIT_PERCENT = 2.0      # issue 23: < 2 % change in critical height, never the mode
-ACCURACY_LIMIT_PERCENT = 10.0        # issue 23: within 10 % of the measured height
 
 
 def band_corners(case: DrystoneCase) -> list[DrystoneCase]:

@@ -20,11 +20,11 @@ from pathlib import Path
 
 import reproducibility
 
-from ..runfolder import config_toml, git_revision, package_versions, to_plain
-from ..store import atomic_write
-from .case import WALLS_B, DrystoneCase
+from ..runfolder import config_toml, git_revision, package_versions
+
+from ..store import atomic_write, to_plain
+from .case import ACCURACY_LIMIT_PERCENT, WALLS_B, DrystoneCase
 from .run import RIGID_NOTE
-from .validate import ACCURACY_LIMIT_PERCENT
 
 SEEDS = (1, 2)
 

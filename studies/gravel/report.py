@@ -8,8 +8,7 @@ import math
 import shutil
 from pathlib import Path
 
-from studies.runfolder import to_plain
-from studies.store import atomic_write
+from studies.store import atomic_write, to_plain
 
 
 def write_figures(folder, result: dict) -> list[str]:

@@ -23,7 +23,7 @@ from studies.runner import Stopwatch, finish, open_run_folder
 from studies.runfolder import RunFolder
 from studies.store import Store, content_key
 from .case import KhosraviCase
-from .compare import settled_box, specimen_key
+from .specimen import settled_box, specimen_key
 
 
 def free_fill_case(case: KhosraviCase) -> KhosraviCase:

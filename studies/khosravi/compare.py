@@ -30,29 +30,18 @@ from dem2d.biaxial import BiaxialCase
 from studies.khosravi.run import KhosraviRun
 from studies.measures import dem_profile, k_upper_half, normal_thrust, resultant_height_over_H, steady_displacement
 from studies.khosravi.case import KhosraviCase
-from dem2d.sim import restore
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.report import theory_row
-from studies.runfolder import RunFolder, package_versions, to_plain
+from studies.runfolder import RunFolder, package_versions
 from studies.runner import (Stopwatch, drop_checkpoint, finish, finished_result, open_recording, open_run_folder,
                             reusing_line)
-from studies.store import Store, atomic_write, content_key
+from studies.store import Store, atomic_write, content_key, to_plain
+
+from .specimen import settled_box, specimen_key
 
 #: Khosravi et al.'s published values the report compares with (shipped with the package)
 REFERENCE = Path(__file__).resolve().parent / "reference.json"
-
-_SPECIMEN_FIELDS = ("H", "box_width", "box_height", "n_panels", "d50", "cu", "particles_scale", "gs",
-                    "friction", "wall_friction", "floor_friction", "far_wall_friction", "seed",
-                    "solver", "pluviation", "checkpoint_layers")
-
-
-def specimen_key(case: KhosraviCase) -> str:
-    """Hash of every case field that shapes the settled specimen (not the translation)."""
-    d = {k: to_plain(getattr(case, k)) for k in _SPECIMEN_FIELDS}
-    d["pymunk"] = package_versions().get("pymunk")
-    return content_key(d)
-
 
 def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DEFAULT_CARDS,
                 root: str | Path | None = None) -> dict:
@@ -160,42 +149,6 @@ def _started(case: KhosraviCase, saved: Path | None, specimens: Store | None, ke
     with clock("at_rest_s"):
         run.at_rest()
     return run, reused
-
-
-def settled_box(case: KhosraviCase, specimens: Store | None, key: str, bar) -> tuple[KhosraviRun, bool]:
-    """The filled box: the stored specimen if ``specimens`` holds one under ``key``,
-    else a pluviation that is then stored. Every ``case.checkpoint_layers`` layers the
-    fill goes on from its own snapshot (kept as ``<key>.partial.pkl`` when there is a
-    store), as a fill resumed from that file does: pymunk rebuilds its contact cache and
-    spatial index in a fresh space, so only a run that goes through the same snapshot
-    is the same run, bit for bit, with or without the interruption. Returns (run,
-    whether a stored specimen was reused)."""
-    stored = specimens.load_bytes(key, ".pkl") if specimens is not None else None
-    if stored is not None:
-        return KhosraviRun(case, sim=restore(stored)), True
-    partial = specimens.load_bytes(key, ".partial.pkl") if specimens is not None else None
-    task = bar.add_task("pluviation" + (" (resumed)" if partial is not None else ""), total=None, status="")
-    while True:
-        run = KhosraviRun(case, sim=restore(partial) if partial is not None else None)
-        mark = None
-        for s in run.fill():
-            bar.update(task, description=f"pluviation layer {s.layer}/{s.n_layers}",
-                       status=f"{s.n_grains} disks, surface {s.surface * 1e3:.0f} mm, unbalance {s.ratio:.3f}")
-            if s.done and s.layer < s.n_layers and s.layer % case.checkpoint_layers == 0:
-                mark = run.sim.snapshot()       # between layers: go on from it
-                break
-        if mark is None:
-            break
-        partial = mark
-        if specimens is not None:
-            specimens.save_bytes(key, ".partial.pkl", partial)
-    blob = run.sim.snapshot()
-    if specimens is not None:
-        specimens.save_bytes(key, ".pkl", blob)
-        specimens.discard(key, ".partial.pkl")
-    # go on from the stored specimen, as a later run reusing it will: both then continue
-    # bit for bit alike, and the space is rebuilt in creation order
-    return KhosraviRun(case, sim=restore(blob)), False
 
 
 def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwatch,

@@ -9,8 +9,7 @@ import shutil
 from pathlib import Path
 
 from studies.report import check, checks_markdown, within
-from studies.runfolder import to_plain
-from studies.store import atomic_write
+from studies.store import atomic_write, to_plain
 
 
 def _trend(d: dict) -> str:

@@ -30,9 +30,9 @@ import reproducibility
 from .model import G, MODES, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
     rough_or_smooth, theory_rows
 from ..config import with_current_names
-from ..runfolder import package_versions, git_revision, to_plain
+from ..runfolder import package_versions, git_revision
 from ..runner import finish, finished_result, open_recording, open_run_folder, reusing_line
-from ..store import atomic_write, content_key, load_npz, npz_bytes
+from ..store import atomic_write, content_key, load_npz, npz_bytes, to_plain
 
 #: the validation targets (reference.json "targets"): K and h/H against Tables 1-2
 TARGETS = json.loads((Path(__file__).with_name("reference.json")).read_text())["targets"]

@@ -80,6 +80,6 @@ def test_a_translation_resumed_from_its_run_folder_ends_as_the_straight_run(stra
 def test_snapshot_cadence_is_part_of_the_specimen_key():
     """Two fills that go through different snapshots are different specimens, so one
     never reuses the other's."""
-    from studies.khosravi.compare import specimen_key
+    from studies.khosravi.specimen import specimen_key
     assert specimen_key(CASE) != specimen_key(replace(CASE, checkpoint_layers=2))
     assert specimen_key(CASE) == specimen_key(replace(CASE, checkpoint_readings=5))

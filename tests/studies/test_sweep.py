@@ -111,7 +111,7 @@ def _same(a, b) -> bool:
 def _serial(tmp_path_factory) -> list[dict]:
     """The four good points run one by one in this process, in the sweep's order (their
     results as result.json holds them)."""
-    from studies.runfolder import to_plain
+    from studies.store import to_plain
     study, out = get("khosravi"), tmp_path_factory.mktemp("serial")
     return [to_plain(study.run(b["case"], out=str(out), quiet=True))
             for b in build_points(study, parse_vary(VARY), sets=TINY) if b["case"] is not None]
