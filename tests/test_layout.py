@@ -90,3 +90,102 @@ def test_study_functions_are_short():
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.end_lineno - node.lineno >= 60:
                 long.append(f"{p.relative_to(ROOT)}:{node.lineno} {node.name}")
     assert long == []
+
+
+def _module_names() -> dict[str, Path]:
+    """Dotted module name -> file, for every module of the package (and cli, reproducibility)."""
+    mods = {}
+    for pkg in PACKAGES:
+        for p in _sources(pkg):
+            parts = list(p.relative_to(ROOT).with_suffix("").parts)
+            mods[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = p
+    return mods | {"cli": ROOT / "cli.py", "reproducibility": ROOT / "reproducibility.py"}
+
+
+def _import_graph() -> dict[str, dict[str, set[str]]]:
+    """module -> {module it imports (anywhere in the file, lazy imports too): names taken}."""
+    mods = _module_names()
+
+    def owner(name: str) -> str | None:
+        while name and name not in mods:
+            name = name.rpartition(".")[0]
+        return name or None
+
+    graph = {}
+    for mod, path in mods.items():
+        base = mod.split(".") if path.name == "__init__.py" else mod.split(".")[:-1]
+        deps: dict[str, set[str]] = {}
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                for a in node.names:
+                    if owner(a.name):
+                        deps.setdefault(owner(a.name), set()).add(a.name)
+            elif isinstance(node, ast.ImportFrom):
+                src = ".".join(base[:len(base) - node.level + 1] + [node.module or ""]).strip(".") if node.level \
+                    else node.module
+                for a in node.names:
+                    target = owner(f"{src}.{a.name}") if f"{src}.{a.name}" in mods else owner(src)
+                    if target:
+                        deps.setdefault(target, set()).add(a.name)
+        deps.pop(mod, None)
+        graph[mod] = deps
+    return graph
+
+
+def _cycles(graph: dict[str, set]) -> list[list[str]]:
+    """The strongly connected components of more than one node (Tarjan)."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def _study_of(module: str) -> str | None:
+    from studies import NAMES
+    parts = module.split(".")
+    return parts[1] if parts[0] == "studies" and len(parts) > 1 and parts[1] in NAMES else None
+
+
+def test_no_import_circle():
+    """No two modules import each other, directly or round a circle (lazy imports
+    included: a circle hidden in a function is still one design), and no two studies do."""
+    graph = _import_graph()
+    assert _cycles(graph) == []
+    studies = {}
+    for mod, deps in graph.items():
+        if _study_of(mod):
+            studies.setdefault(_study_of(mod), set()).update(
+                s for s in map(_study_of, deps) if s and s != _study_of(mod))
+    assert _cycles(studies) == []
+
+
+def test_no_study_takes_another_studys_private_names():
+    """A study uses another study only through its public names (what it chose to offer)."""
+    taken = [f"{mod} <- {dep}: {sorted(n for n in names if n.startswith('_'))}"
+             for mod, deps in _import_graph().items() for dep, names in deps.items()
+             if _study_of(mod) and _study_of(dep) and _study_of(mod) != _study_of(dep)
+             and any(n.startswith("_") for n in names)]
+    assert taken == []

@@ -49,18 +49,12 @@ import dem3d
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param, seed_param
 from dem3d import measure
+from studies.granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS
 from studies.store import content_key
 
 G = 9.81
-#: clump volume over one sphere's for two equal spheres overlapping by one radius
-_CLUMP_VOLUME_FACTOR = 2.0 - (5.0 / 12.0) / (4.0 / 3.0)
 _CATCH_DEPTH = 1.2        # m below the base: the spill pile stays clear of the base
 _GENERATION_FRACTIONS = (0.25, 0.2, 0.15)
-
-
-#: the longest run a case may ask for, in particle-steps (spheres x time steps): ~6 days on
-#: 2 cores at 4e6 particle-steps/s (as studies.nadukuru.model.MOST_PARTICLE_STEPS)
-MOST_PARTICLE_STEPS = 2e12
 
 
 @dataclass(frozen=True)
@@ -286,7 +280,7 @@ def fill_height(case: HeapCase) -> float:
     the base area (uniform diameters: mean d^3 = (b^4 - a^4) / (4 (b - a)))."""
     a, b = case.d_min, case.d_max
     mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
-    v_body = math.pi / 6.0 * mean_d3 * (1.0 + case.clump_fraction * (_CLUMP_VOLUME_FACTOR - 1.0))
+    v_body = math.pi / 6.0 * mean_d3 * (1.0 + case.clump_fraction * (CLUMP_VOLUME_FACTOR - 1.0))
     return case.bodies * v_body / ((1.0 - case.target_porosity) * case.base_length * case.width)
 
 

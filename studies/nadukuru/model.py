@@ -39,6 +39,7 @@ from analytic.schema import check_fields, param, seed_param
 from dem3d import measure
 
 from ..config import with_current_names
+from ..granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law
 from ..measures import steady_displacement
 from ..report import theory_row
 from ..store import Store, atomic_write, content_key, load_npz, npz_bytes
@@ -48,79 +49,6 @@ G = 9.81
 MODES = ("T", "RB", "RT", "mixed")
 MODE_TITLES = {"T": "translation", "RB": "rotation about the base", "RT": "rotation about the top",
                "mixed": "rotation about a point H/2 above the top"}
-#: clump volume over one sphere's for two equal spheres overlapping by one radius
-#: (lens of two spheres at centre distance r: 5 pi r^3 / 12)
-_CLUMP_VOLUME_FACTOR = 2.0 - (5.0 / 12.0) / (4.0 / 3.0)
-
-
-#: the longest run a case may ask for, in particle-steps (spheres x time steps): ~6 days
-#: on 2 cores at the 4e6 particle-steps/s of the paper-scale preparation (29,053 spheres,
-#: 60,478 steps in 394 s, docs/validation/nadukuru_prep_time_2threads_alone.json)
-MOST_PARTICLE_STEPS = 2e12
-
-
-@dataclass(frozen=True)
-class SpecimenRecipe:
-    """How the backfill is made: Nadukuru & Michalowski's grains, contacts and raining."""
-
-    # ~4 KB a sphere (engine arrays, double-buffered neighbour pairs, a checkpoint copy):
-    # 1e6 spheres ~4 GB; the grains shrink and the time step with them (steps ~ sqrt(N)),
-    # so a mode takes ~(N / 30,000)^1.5 x 20 min: ~3 days at 1e6
-    particles: int = param(30_000, lo=50, hi=1_000_000,
-                           meaning="spheres including clump members (PFC balls; paper ~30,000 behind the wall, "
-                                   "8,200 in the triaxial test)")
-    clump_fraction: float = param(0.30, lo=0, hi=1, meaning="fraction of the bodies that are two-sphere clumps "
-                                                            "(paper 0.30)")
-    # 2 radii would make the two spheres one (dem3d.random_specimen's range)
-    clump_overlap: float = param(1.0, lo=0, hi=2, hi_open=True,
-                                 meaning="overlap of the two spheres of a clump, in radii (paper 1.0)")
-    d_min: float = param(0.046, unit="m", lo=0, lo_open=True,
-                         meaning="smallest sphere diameter, uniform up to d_max (paper 0.046 at 30,000 particles; "
-                                 "the wall box scales the grains up for fewer particles)")
-    d_max: float = param(0.0736, unit="m", lo=0, lo_open=True,
-                         meaning="largest sphere diameter, scaled with d_min (paper 0.0736 at 30,000 particles)")
-    kn: float = param(8.3e6, unit="N/m", lo=0, lo_open=True, meaning="normal contact stiffness (paper 8.3e6)")
-    ks: float = param(3.32e6, unit="N/m", lo=0, lo_open=True, meaning="shear contact stiffness (paper 3.32e6)")
-    particle_friction: float = param(0.65, lo=0, meaning="friction coefficient between grains (paper 0.65)")
-    density: float = param(2650.0, unit="kg/m^3", lo=0, lo_open=True, meaning="grain density (paper 2650)")
-    damping_ratio: float = param(0.2, lo=0, hi=1, hi_open=True,
-                                 meaning="viscous normal damping, fraction of critical (not given in the paper)")
-    local_damping: float = param(0.7, lo=0, hi=1, hi_open=True,
-                                 meaning="PFC local damping while raining and settling (0.7 is PFC's default)")
-    deposition_friction: float = param(
-        0.1, lo=0, meaning="particle friction while raining, below particle_friction to densify (0.1 gave "
-                           "porosity 0.348 at 3000 particles, 0 gave 0.330, paper ~0.35)")
-    # 0.2 was fitted to one number, the rough-wall translation resultant height (paper
-    # scale: floor 0 / 0.2 / 0.65 gave h/H 0.308 / 0.401 / 0.444 against 0.391), and then
-    # predicted the smooth-wall translation (K 0.220, h/H 0.418 against 0.230 / 0.401; 0.472
-    # with floor 0.65) and the rough mixed mode (docs/validation/nadukuru_floor_friction.json);
-    # a full validation at 0.1 misses 6 of the 14 table figures against 5 at 0.2
-    # (docs/validation/archive/nadukuru_floor0.1/)
-    floor_friction: float = param(0.2, lo=0, meaning="friction coefficient of the floor (not given in the paper; "
-                                                     "0.2 fitted to the rough-wall translation's resultant height)")
-    # the fill is loaded from here to full g with friction, a 1D compression that sets the
-    # at-rest K: at 3,000 particles 1.0 / 0.5 / 0.25 / 0.1 gave K0 0.83 / 0.54 / 0.41 / 0.34;
-    # at 29,000, 0.25 gave 0.458 and 0.1 gave 0.396 against the paper's 0.385
-    rain_gravity: float = param(0.1, lo=0, lo_open=True,
-                                meaning="gravity at which the particle friction is switched on, as a fraction "
-                                        "of g (sets the at-rest K)")
-    deposition_gravity: float = param(2.0, lo=0, lo_open=True,
-                                      meaning="gravity while the grains fall and pack, as a fraction of g (a "
-                                              "shorter fall; frictionless packing does not depend on it)")
-    # the paper's stiffness is restored before friction is switched on
-    deposition_softening: float = param(10.0, lo=0, lo_open=True,
-                                        meaning="kn and ks are divided by this while the grains fall and pack "
-                                                "(a sqrt(softening) larger time step)")
-    target_porosity: float = param(0.36, lo=0.2, hi=0.7, lo_open=True, hi_open=True,
-                                   meaning="porosity used to size the grains so the box fills to H (paper 0.36)")
-    dt: float | None = param(None, unit="s", lo=0, lo_open=True,
-                             meaning="time step (none: 0.2 x the critical step of the lightest grain)")
-    settle_ratio: float = param(2e-3, lo=0, lo_open=True, meaning="unbalanced-force ratio that ends settling")
-
-    def __post_init__(self):
-        check_fields(self)
-        if not self.d_min <= self.d_max:
-            raise InvalidParameter("d_min, d_max", f"{self.d_min:g}, {self.d_max:g}", "d_min <= d_max [m]")
 
 
 @dataclass(frozen=True)
@@ -254,7 +182,7 @@ def grain_scale(rec: SpecimenRecipe, wall: WallSetup) -> tuple[float, float]:
     n_bodies = rec.particles / (1.0 + rec.clump_fraction)
     a, b = rec.d_min, rec.d_max
     mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
-    v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (_CLUMP_VOLUME_FACTOR - 1.0))
+    v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (CLUMP_VOLUME_FACTOR - 1.0))
     solid_per_width = (1.0 - rec.target_porosity) * wall.backfill_length * wall.height * _OVERFILL
     s = (solid_per_width * wall.width / (n_bodies * v_body)) ** (1.0 / 3.0)
     min_width = _MIN_CELLS * b
@@ -267,12 +195,6 @@ def grain_scale(rec: SpecimenRecipe, wall: WallSetup) -> tuple[float, float]:
 
 _OVERFILL = 1.04     # fill 4 % above H, trimmed to H after deposition
 _MIN_CELLS = 3.4     # periodic length >= 3 (2 r_max + skin): 3.4 d_max with skin 0.4 r_min
-
-
-def _contact(rec: SpecimenRecipe, mu: float, local: float, softening: float = 1.0) -> dem3d.ContactParams:
-    """The recipe's linear law; ``softening`` divides both stiffnesses (deposition only)."""
-    return dem3d.linear(rec.kn / softening, rec.ks / softening, mu, zeta_n=rec.damping_ratio, zeta_s=0.0,
-                        local_damping=local)
 
 
 def _box_walls(wall: WallSetup, rec: SpecimenRecipe, motion=dem3d.FIXED) -> list:
@@ -420,14 +342,14 @@ def _rain_and_pack(spec, rec: SpecimenRecipe, wall: WallSetup, walls: list, gen_
     would slow the fall to 0.3 g). Returns the simulation and its steps."""
     soft = rec.deposition_softening
     dt_soft = dt * math.sqrt(soft)
-    sim = dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, 0.0, soft), dt=dt_soft,
+    sim = dem3d.Simulation(spec, contact_law(rec, rec.deposition_friction, 0.0, soft), dt=dt_soft,
                            walls=walls + [_guard_above_wall(wall, gen_height + d_max)],
                            periodic=dem3d.Periodic(1, 0.0, wall.width) if wall.side_friction is None else None)
     g_dep = G * rec.deposition_gravity
     sim.gravity = np.array([0.0, 0.0, -g_dep])
     steps = step_with_progress(sim, int(1.2 * math.sqrt(2.0 * gen_height / g_dep) / dt_soft), progress, "raining")
     log.stage("fall", steps)
-    sim.set_params(_contact(rec, rec.deposition_friction, rec.local_damping, soft))
+    sim.set_params(contact_law(rec, rec.deposition_friction, rec.local_damping, soft))
     res = dem3d.settle(sim, ratio=5 * rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt_soft),
                        trace=log.trace)
     steps += res.steps
@@ -449,7 +371,7 @@ def _trim_and_stiffen(sim, rec: SpecimenRecipe, H: float, walls: list, dt: float
     res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt), trace=log.trace)
     steps += res.steps
     log.stage("stiffen", res.steps)
-    sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
+    sim.set_params(contact_law(rec, rec.particle_friction, rec.local_damping))
     res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=log.trace)
     steps += res.steps
     log.stage("friction on", res.steps)
@@ -477,7 +399,7 @@ def _measure_at_rest(sim, rec: SpecimenRecipe, wall: WallSetup, scale: float, dt
     damping off (the wall sees the true static state): porosity of the middle 80 % of the
     box, K0 by eq. 6, resultant height / H, wall load [kN], stress ratio."""
     L, H, w = wall.backfill_length, wall.height, wall.width
-    sim.set_params(_contact(rec, rec.particle_friction, 0.0))
+    sim.set_params(contact_law(rec, rec.particle_friction, 0.0))
     steps += step_with_progress(sim, 2000, None, "")
     f = dem3d.frame(sim)
     n = measure.porosity(sim, (0.1 * L, 0.0, 0.1 * H), (0.9 * L, w, 0.9 * H))
@@ -512,7 +434,7 @@ def _trim(sim, H: float, walls, rec: SpecimenRecipe, dt: float):
     new_labels = labels.copy()
     new_labels[labels >= 0] = relabel
     spec = dem3d.Specimen(sph.x[keep].copy(), sph.r[keep].copy(), new_labels, rec.density, sph.v[keep].copy())
-    return dem3d.Simulation(spec, _contact(rec, rec.deposition_friction, rec.local_damping), dt=dt, walls=walls,
+    return dem3d.Simulation(spec, contact_law(rec, rec.deposition_friction, rec.local_damping), dt=dt, walls=walls,
                             periodic=sim.periodic)
 
 
@@ -668,7 +590,7 @@ def _movement_simulation(case: NadukuruCase, specimen: Specimen, wall: WallSetup
         t0 = float(specimen.state["time"])
         sim = dem3d.Simulation.from_arrays(specimen.state, walls=_box_walls(wall, rec, _shifted(motion, t0)))
         sim.walls.reset_pivots()              # a new motion, not the stored (fixed) one
-        sim.set_params(_contact(rec, rec.particle_friction, mv.local_damping))
+        sim.set_params(contact_law(rec, rec.particle_friction, mv.local_damping))
     else:
         t0 = float(resume["movement.t0"])
         sim = dem3d.Simulation.from_arrays({k: v for k, v in resume.items() if k != "movement.t0"},

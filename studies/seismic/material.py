@@ -124,18 +124,18 @@ def triaxial(case: SeismicCase, *, confining: float = 70e3, particles: int = 200
     """Peak and end phi [deg] of the deposit's grains at the case's contact law (module
     docstring). ``strain_rate`` [1/s]: 1/s keeps the inertial number
     I = rate d sqrt(rho / p) near 1e-3 at 70 kPa with the coarse grains (quasi-static)."""
-    from ..triaxial.lab import _ALL_BUT_FLOOR, ServoVelocity, TriaxialResult, _platen_walls, _ServoCell
+    from ..triaxial.lab import ALL_BUT_FLOOR, ServoVelocity, TriaxialResult, platen_walls, ServoCell
     x, r, side0 = deposit_cube(case, particles, seed)
     spec = dem3d.Specimen(x, r, -np.ones(len(r), np.int64), case.grain_density)
     porosity_cut = 1.0 - float(np.sum(4.0 / 3.0 * np.pi * r ** 3)) / side0 ** 3
     servo = [ServoVelocity() for _ in range(6)]
     law = M.contact_law(case, local_damping=0.7)
     dt = M.time_step(case, law, bonds=False)
-    sim = dem3d.Simulation(spec, law, dt=dt, walls=_platen_walls(side0, servo), gravity=(0.0, 0.0, 0.0))
-    cell = _ServoCell(sim, servo, hertz_stiffness(case, confining), case.d_mean, dt)
+    sim = dem3d.Simulation(spec, law, dt=dt, walls=platen_walls(side0, servo), gravity=(0.0, 0.0, 0.0))
+    cell = ServoCell(sim, servo, hertz_stiffness(case, confining), case.d_mean, dt)
     target = np.full(6, confining)
     for it in range(100_000 // chunk):
-        sig = cell.servo_step(target, _ALL_BUT_FLOOR, 0.2, chunk)
+        sig = cell.servo_step(target, ALL_BUT_FLOOR, 0.2, chunk)
         # the ratio bound is looser than studies.triaxial's 5e-3: rattlers hold it up here
         if it % 25 == 0 and np.all(np.abs(sig / confining - 1) < 0.05) and \
                 dem3d.measure.unbalanced_force_ratio(sim) < 2e-2:
@@ -175,13 +175,13 @@ def _shear(cell, servo, target, dims0, v_axial: float, n_steps: int, chunk: int)
     """The top platen down at ``v_axial`` [m/s] for ``n_steps``, the lateral platens on
     the servo at the confining stress: per chunk axial and volumetric strain
     (compression +), sigma_1, sigma_3 [Pa]."""
-    from ..triaxial.lab import _LATERAL
+    from ..triaxial.lab import LATERAL
     servo[5].value = tuple(v_axial * cell.normal[5])
     eps_a, eps_v, s1, s3 = [], [], [], []
     done = 0
     while done < n_steps:
         k = min(chunk, n_steps - done)
-        sig = cell.servo_step(target, _LATERAL, 4.0 * v_axial, k)
+        sig = cell.servo_step(target, LATERAL, 4.0 * v_axial, k)
         done += k
         dims = cell.box()
         eps_a.append(1.0 - dims[2] / dims0[2])

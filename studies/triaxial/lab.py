@@ -30,7 +30,7 @@ from analytic.inputs import MAX_PRESSURE_KPA
 from analytic.schema import check_fields, param, seed_param
 
 from ..store import atomic_write, content_key
-from ..nadukuru.model import MOST_PARTICLE_STEPS, SpecimenRecipe, _CLUMP_VOLUME_FACTOR, _contact
+from ..granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law
 
 
 @dataclass
@@ -131,8 +131,8 @@ def _plane(point, normal, half):
 _PLATEN_NORMALS = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
 _PLATEN_POINTS = [(0, .5, .5), (1, .5, .5), (.5, 0, .5), (.5, 1, .5), (.5, .5, 0), (.5, .5, 1)]
 #: platens the servo drives: all but the floor (isotropic stages), the four lateral (shearing)
-_ALL_BUT_FLOOR = (True, True, True, True, False, True)
-_LATERAL = (True, True, True, True, False, False)
+ALL_BUT_FLOOR = (True, True, True, True, False, True)
+LATERAL = (True, True, True, True, False, False)
 
 
 def run_triaxial(rec: SpecimenRecipe, setup: TriaxialSetup = TriaxialSetup(), *, seed: int = 1,
@@ -143,13 +143,13 @@ def run_triaxial(rec: SpecimenRecipe, setup: TriaxialSetup = TriaxialSetup(), *,
     rng = np.random.default_rng(seed)
     spec, side0 = _loose_cube(rec, particles, rng)
     servo = [ServoVelocity() for _ in range(6)]
-    walls = _platen_walls(side0, servo)
+    walls = platen_walls(side0, servo)
     m_min = rec.density * math.pi / 6.0 * rec.d_min**3
     dt = rec.dt or 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
     mu_compact = mu_compact_of(setup, rec)
-    sim = dem3d.Simulation(spec, _contact(rec, mu_compact, rec.local_damping), dt=dt, walls=walls,
+    sim = dem3d.Simulation(spec, contact_law(rec, mu_compact, rec.local_damping), dt=dt, walls=walls,
                            gravity=(0.0, 0.0, 0.0))
-    cell = _ServoCell(sim, servo, rec.kn, 0.5 * (rec.d_min + rec.d_max), dt)
+    cell = ServoCell(sim, servo, rec.kn, 0.5 * (rec.d_min + rec.d_max), dt)
     target = np.full(6, setup.confining)
     compaction_steps = _compact(cell, target, setup, progress)
     dims0, porosity0 = _rebalance(cell, rec, target, setup)
@@ -166,7 +166,7 @@ def _loose_cube(rec: SpecimenRecipe, particles: int, rng) -> tuple[dem3d.Specime
     n_bodies = int(round(particles / (1.0 + rec.clump_fraction)))
     a, b = rec.d_min, rec.d_max
     mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
-    v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (_CLUMP_VOLUME_FACTOR - 1.0))
+    v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (CLUMP_VOLUME_FACTOR - 1.0))
     side0 = (n_bodies * v_body / 0.22) ** (1.0 / 3.0)       # generated at solid fraction 0.22
     spec = dem3d.random_specimen(rng, (1e-3,) * 3, (side0 - 1e-3,) * 3, n_bodies, a, b,
                                  clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
@@ -174,7 +174,7 @@ def _loose_cube(rec: SpecimenRecipe, particles: int, rng) -> tuple[dem3d.Specime
     return spec, side0
 
 
-def _platen_walls(side0: float, servo: list[ServoVelocity]) -> list:
+def platen_walls(side0: float, servo: list[ServoVelocity]) -> list:
     """The six frictionless platens around a cube of side ``side0`` [m]; the floor (z-) is
     fixed, the others move at the velocity their ``servo`` schedule holds."""
     walls = []
@@ -185,7 +185,7 @@ def _platen_walls(side0: float, servo: list[ServoVelocity]) -> list:
     return walls
 
 
-class _ServoCell:
+class ServoCell:
     """The specimen between its six platens: box dimensions [m], platen stresses [Pa]
     and the servo that drives the platens towards target stresses."""
 
@@ -224,13 +224,13 @@ class _ServoCell:
         return sig
 
 
-def _compact(cell: _ServoCell, target: np.ndarray, setup: TriaxialSetup, progress) -> int:
+def _compact(cell: ServoCell, target: np.ndarray, setup: TriaxialSetup, progress) -> int:
     """Stage 1: isotropic compaction at the compaction friction until the five moving
     platens are within 2 % of the confining stress and the unbalanced-force ratio is
     below 5e-3 (checked every 25 chunks). Returns the step count at its end."""
     task = progress.add_task("triaxial: compaction", total=None, status="") if progress else None
     for it in range(400_000 // setup.chunk):
-        sig = cell.servo_step(target, _ALL_BUT_FLOOR, setup.servo_speed, setup.chunk)
+        sig = cell.servo_step(target, ALL_BUT_FLOOR, setup.servo_speed, setup.chunk)
         if it % 25 == 0:
             if task is not None:
                 progress.update(task, status=f"sigma {np.mean(sig[[0, 1, 2, 3, 5]]) / 1e3:.0f} kPa")
@@ -240,20 +240,20 @@ def _compact(cell: _ServoCell, target: np.ndarray, setup: TriaxialSetup, progres
     return cell.sim.step_count
 
 
-def _rebalance(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray,
+def _rebalance(cell: ServoCell, rec: SpecimenRecipe, target: np.ndarray,
                setup: TriaxialSetup) -> tuple[np.ndarray, float]:
     """Stage 2: the particle friction on, 2000 // chunk chunks of servo at the confining stress.
     Returns the box dimensions [m] and porosity at the start of shearing."""
-    cell.sim.set_params(_contact(rec, rec.particle_friction, rec.local_damping))
+    cell.sim.set_params(contact_law(rec, rec.particle_friction, rec.local_damping))
     for it in range(2000 // setup.chunk):
-        cell.servo_step(target, _ALL_BUT_FLOOR, 0.2 * setup.servo_speed, setup.chunk)
+        cell.servo_step(target, ALL_BUT_FLOOR, 0.2 * setup.servo_speed, setup.chunk)
     dims0 = cell.box()
     solid = _solid_volume(cell.sim)
     porosity0 = 1.0 - solid / float(np.prod(dims0))
     return dims0, porosity0
 
 
-def _shear(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: TriaxialSetup,
+def _shear(cell: ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: TriaxialSetup,
            dims0: np.ndarray, progress, on_frame=None) -> tuple[list, list, list, list]:
     """Stage 3: the top platen moves down at the strain rate to ``max_strain`` (local
     damping off); the lateral platens hold sigma_3. Returns, per chunk, axial and
@@ -261,7 +261,7 @@ def _shear(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: Tri
     with the specimen's frame at the start and each time another tenth of
     ``max_strain`` is reached."""
     sim, servo, normal = cell.sim, cell.servo, cell.normal
-    sim.set_params(_contact(rec, rec.particle_friction, 0.0))
+    sim.set_params(contact_law(rec, rec.particle_friction, 0.0))
     H0 = dims0[2]
     v_axial = setup.strain_rate * H0
     servo[5].value = tuple(v_axial * normal[5])
@@ -275,7 +275,7 @@ def _shear(cell: _ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: Tri
     done = 0
     while done < n_steps:
         k = min(setup.chunk, n_steps - done)
-        sig = cell.servo_step(target, _LATERAL, 4.0 * v_axial, k)
+        sig = cell.servo_step(target, LATERAL, 4.0 * v_axial, k)
         done += k
         dims = cell.box()
         eps_a.append(1.0 - dims[2] / H0)
