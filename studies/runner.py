@@ -179,7 +179,7 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
     return folder
 
 
-def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int, blueprint=None,
+def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int, layout=None,
                    spawn: bool = False, folder: RunFolder | Path | None = None, part: str | None = None):
     """The run's Rerun recording (``path`` None and no viewer: none), and its VTK files in
     ``folder``/vtk when the run was started with ``--vtk`` (its run_options.json says so,
@@ -194,7 +194,7 @@ def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int
             from viz.vtk import VtkSeries
             vtk = VtkSeries(run_dir / VTK_FOLDER / (part or ""))
     return Recorder(path, app_id=f"wallsim {study}", recording_id=recording_id, dim=dim, every=1,
-                    spawn=spawn, enabled=path is not None or spawn, blueprint=blueprint, vtk=vtk)
+                    spawn=spawn, enabled=path is not None or spawn, layout=layout, vtk=vtk)
 
 
 #: where a run's VTK files go in its folder (``--vtk``)

@@ -189,3 +189,22 @@ def test_no_study_takes_another_studys_private_names():
              if _study_of(mod) and _study_of(dep) and _study_of(mod) != _study_of(dep)
              and any(n.startswith("_") for n in names)]
     assert taken == []
+
+
+def test_viz_names_no_study():
+    """viz/ is generic: it imports no study, and none of its functions, classes or names
+    is a study's (each study draws its own figures and lays out its own recording from
+    viz's generic pieces)."""
+    from studies import NAMES
+    words = set(NAMES) | {"drystone", "sizkow", "oetomo"}
+    named = []
+    for p in _sources("viz"):
+        tree = ast.parse(p.read_text())
+        if any(m.split(".")[0] == "studies" for m in _modules_imported(p)):
+            named.append(f"{p.relative_to(ROOT)} imports studies")
+        for node in ast.walk(tree):
+            name = getattr(node, "name", None) if isinstance(node, (ast.FunctionDef, ast.ClassDef)) else \
+                node.id if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store) else None
+            if name and any(w in name.lower() for w in words):
+                named.append(f"{p.relative_to(ROOT)}:{node.lineno} {name}")
+    assert named == []

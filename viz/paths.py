@@ -3,20 +3,20 @@
 World (2D or 3D scene, in metres)::
 
     world/particles        Points2D/3D: positions per frame; radii static; colours per frame
-    world/blocks           LineStrips2D: outlines of polygon blocks (dry-stone walls),
+    world/blocks           LineStrips2D: outlines of polygon blocks (a block wall),
                            coloured by displacement since the first frame
-    world/water            LineStrips2D: the water surface on the inner face (dry-stone walls)
+    world/water            LineStrips2D: the water surface on the inner face of a block wall
     world/joint_forces     Points2D: contact points of the block joints, radius ~ normal force
-    world/grains           LineStrips2D: outlines of the gravel grains (dry-stone case B), held
-                           ones darker
-    world/block_velocity   Arrows2D: block velocities at failure (dry-stone case B)
+    world/grains           LineStrips2D: outlines of polygonal grains (a fill behind a block
+                           wall), held ones darker
+    world/block_velocity   Arrows2D: block velocities (a block wall at failure)
     world/wall             LineStrips: wall panels, coloured by normal stress
     world/force_chains     LineStrips: contacts above the mean normal force, radius ~ force
     world/displacement     Arrows: particle displacement since the first frame (subsampled)
-    world/sheet_pile       Points3D: the seismic study's wall balls, coloured by the bending
+    world/sheet_pile       Points3D: the balls of a bonded sheet pile, coloured by the bending
                            moment of their row (blue negative, white 0, red positive)
-    world/shear_strain     Boxes3D: the seismic study's maximum shear strain per x-z cell
-                           (viridis), drawn beside the periodic slab at its snapshot times
+    world/shear_strain     Boxes3D: the maximum shear strain per x-z cell (viridis), drawn
+                           beside the periodic slab at its snapshot times
 
 Wall pressure profile (a 2D plot: x = sigma_h / (gamma H), y = -depth / H)::
 
@@ -30,10 +30,10 @@ Time series::
     metrics/resultant_height_over_H       height of the resultant / H
     metrics/panel_stress_kPa/<i>   normal stress on panel i
     metrics/kinetic_energy_J
-    metrics/crest_displacement_mm   outward crest movement of a dry-stone wall
+    metrics/crest_displacement_mm   outward crest movement of a block wall
     metrics/water_height_m          water height on its inner face
-    metrics/backfill_height_m       fill height at the inner face (dry-stone case B)
-    metrics/thrust_kN               also the fill's horizontal thrust on a dry-stone wall
+    metrics/backfill_height_m       fill height at its inner face
+    metrics/thrust_kN               also the fill's horizontal thrust on a block wall
 
     case                   TextDocument: case description and resolved config (static)
 

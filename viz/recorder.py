@@ -21,6 +21,7 @@ import os
 import shutil
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -55,66 +56,47 @@ def _diverging(values: np.ndarray, vmax: float) -> np.ndarray:
 
 
 
-def default_blueprint(dim: int, *, scene_name: str = "particles and force chains",
-                      extra_series: tuple[str, ...] = ()) -> rrb.Blueprint:
-    """Scene on the left; wall-pressure profile (DEM against every theory), K and the
-    resultant height, and any ``extra_series`` (entity paths) on the right."""
-    scene = (rrb.Spatial3DView(origin=P.WORLD, name=scene_name) if dim == 3
-             else rrb.Spatial2DView(origin=P.WORLD, name=scene_name))
-    right = [rrb.Spatial2DView(origin=P.PROFILE, name="sigma_h/(gamma H) (x) against -depth/H (y)"),
-             rrb.TimeSeriesView(origin=P.METRIC_K, name="K"),
-             rrb.TimeSeriesView(origin=P.METRIC_RESULTANT_HEIGHT, name="resultant height / H")]
-    right += [rrb.TimeSeriesView(origin=e, name=e.rsplit("/", 1)[-1]) for e in extra_series]
+@dataclass(frozen=True)
+class Series:
+    """A time-series panel of a recording's layout: its ``title``, the entity ``origin``
+    and, when given, the entities under it that it shows (``$origin/...``)."""
+
+    title: str
+    origin: str
+    contents: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Layout:
+    """How a recording opens in the viewer: the scene (2D or 3D, titled) on the left; on
+    the right, with ``profile``, the wall-pressure profile (DEM against every theory),
+    then the ``series`` panels, and the case text last."""
+
+    dim: int
+    scene: str
+    series: tuple[Series, ...] = ()
+    profile: bool = False
+
+
+def wall_layout(dim: int, scene: str = "particles and force chains", extra_series: tuple[str, ...] = ()) -> Layout:
+    """A wall-load run: the profile, K and the resultant height, and any ``extra_series``
+    (entity paths, titled by their last part)."""
+    series = (Series("K", P.METRIC_K), Series("resultant height / H", P.METRIC_RESULTANT_HEIGHT))
+    return Layout(dim, scene, series + tuple(Series(e.rsplit("/", 1)[-1], e) for e in extra_series), profile=True)
+
+
+def blueprint(layout: Layout) -> rrb.Blueprint:
+    """The Rerun blueprint of ``layout``."""
+    scene = (rrb.Spatial3DView(origin=P.WORLD, name=layout.scene) if layout.dim == 3
+             else rrb.Spatial2DView(origin=P.WORLD, name=layout.scene))
+    right = [rrb.Spatial2DView(origin=P.PROFILE, name="sigma_h/(gamma H) (x) against -depth/H (y)")] \
+        if layout.profile else []
+    for s in layout.series:
+        right.append(rrb.TimeSeriesView(origin=s.origin, contents=list(s.contents), name=s.title) if s.contents
+                     else rrb.TimeSeriesView(origin=s.origin, name=s.title))
     right.append(rrb.TextDocumentView(origin=P.CASE, name="case"))
     return rrb.Blueprint(rrb.Horizontal(scene, rrb.Vertical(*right), column_shares=[3, 2]),
                          collapse_panels=True)
-
-
-def nadukuru_blueprint() -> rrb.Blueprint:
-    """Nadukuru & Michalowski: the 3D fill and wall, with segment stresses over time."""
-    return default_blueprint(3, scene_name="backfill, wall segments and force chains",
-                             extra_series=(P.METRIC_PANEL_STRESS,))
-
-
-def seismic_blueprint() -> rrb.Blueprint:
-    """Sizkow & El Shamy: grains, the wall coloured by bending moment and the shear-strain
-    cells; thrust on both faces, passive K at 1.5 m, wall top and largest moment."""
-    m = P.METRICS
-    scene = rrb.Spatial3DView(origin=P.WORLD, name="grains, sheet pile (moment), max shear strain")
-    right = rrb.Vertical(
-        rrb.TimeSeriesView(origin=m, contents=["$origin/thrust_back_kN_per_m", "$origin/thrust_front_kN_per_m"],
-                           name="thrust on both faces kN/m"),
-        rrb.TimeSeriesView(origin=m, contents=["$origin/passive_K_at_1_5m"], name="passive K 1.5 m below dredge line"),
-        rrb.TimeSeriesView(origin=m, contents=["$origin/top_displacement_m", "$origin/rotation_deg"],
-                           name="wall top m, rotation deg"),
-        rrb.TimeSeriesView(origin=m, contents=["$origin/max_moment_kN_m_per_m"], name="largest moment kN m/m"),
-        rrb.TextDocumentView(origin=P.CASE, name="case"))
-    return rrb.Blueprint(rrb.Horizontal(scene, right, column_shares=[3, 2]), collapse_panels=True)
-
-
-def khosravi_blueprint() -> rrb.Blueprint:
-    """Khosravi et al.: the 2D box with its 40 pressure cells."""
-    return default_blueprint(2, scene_name="disks, pressure cells and force chains")
-
-
-def drystone_backfill_blueprint() -> rrb.Blueprint:
-    """Dry-stone case B: blocks, grains, force chains, velocities at failure; the fill's
-    height, thrust and the crest movement."""
-    scene = rrb.Spatial2DView(origin=P.WORLD, name="blocks (colour: displacement), grains, force chains")
-    right = rrb.Vertical(rrb.TimeSeriesView(origin=f"{P.METRICS}/backfill_height_m", name="backfill height m"),
-                         rrb.TimeSeriesView(origin=P.METRIC_THRUST, name="fill thrust kN/m"),
-                         rrb.TimeSeriesView(origin=f"{P.METRICS}/crest_displacement_mm", name="crest displacement mm"),
-                         rrb.TextDocumentView(origin=P.CASE, name="case"))
-    return rrb.Blueprint(rrb.Horizontal(scene, right, column_shares=[3, 2]), collapse_panels=True)
-
-
-def drystone_blueprint() -> rrb.Blueprint:
-    """Dry-stone walls: blocks, water and joint forces; crest movement and water height."""
-    scene = rrb.Spatial2DView(origin=P.WORLD, name="blocks (colour: displacement), water, joint forces")
-    right = rrb.Vertical(rrb.TimeSeriesView(origin=f"{P.METRICS}/crest_displacement_mm", name="crest displacement mm"),
-                         rrb.TimeSeriesView(origin=f"{P.METRICS}/water_height_m", name="water height m"),
-                         rrb.TextDocumentView(origin=P.CASE, name="case"))
-    return rrb.Blueprint(rrb.Horizontal(scene, right, column_shares=[3, 2]), collapse_panels=True)
 
 
 def _timed(method):
@@ -141,13 +123,14 @@ class Recorder:
     spawn:       also open the native viewer (never in CI)
     enabled:     False: no Rerun recording (``--no-rrd``); ``self.enabled`` is then True
                  only when ``vtk`` is given
+    layout:      how the recording opens in the viewer (default: ``wall_layout(dim)``)
     flush_every: flush the sink every N scene frames so memory stays flat
     vtk:         also write every scene frame as VTK files (``viz.vtk.VtkSeries``, ``--vtk``)
     """
 
     def __init__(self, path: str | Path | None, *, app_id: str = "wallsim", recording_id: str | None = None,
                  dim: int = 3, every: int = 1, spawn: bool = False, enabled: bool = True,
-                 blueprint: rrb.Blueprint | None = None, flush_every: int = 20,
+                 layout: Layout | None = None, flush_every: int = 20,
                  chain_radius_scale: float | None = None, vtk=None):
         self.vtk = vtk
         rerun_on = enabled and (path is not None or spawn)
@@ -169,7 +152,7 @@ class Recorder:
             return
         self.rec = rr.RecordingStream(app_id, recording_id=recording_id)
         self.rec.set_log_time_enabled(False)  # smaller files, comparable between runs
-        bp = blueprint or default_blueprint(dim)
+        bp = blueprint(layout or wall_layout(dim))
         spawn = spawn and _spawn_viewer(self.rec, self.path)
         sinks = []
         if self.path is not None:
@@ -342,7 +325,7 @@ class Recorder:
                             chain_forces: np.ndarray, block_centres: np.ndarray | None = None,
                             block_velocities: np.ndarray | None = None,
                             metrics: dict[str, float] | None = None) -> None:
-        """A block wall under a granular fill (dry-stone case B): block outlines coloured
+        """A block wall under a granular fill of polygonal grains: block outlines coloured
         by displacement (as ``log_block_wall``), grain outlines (n,k,2) (free grey, held
         darker), force chains of fill and wall together (contacts above the mean force,
         radius ~ force, as ``_log_chains``), and block velocity arrows [m/s, drawn x 0.5 s]

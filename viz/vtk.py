@@ -23,9 +23,9 @@ Kinds and their arrays (units SI; 2D forces N/m):
 * ``walls``: panels (3D quadrilaterals, 2D segments); ``panel`` (index in the run's
   panel order), ``force`` (by the particles on the panel) [N], ``normal`` (into the
   fill), ``area`` [m^2; m in 2D], ``normal_stress`` (compression +) [Pa]
-* ``blocks``: polygons of rigid blocks (dry-stone walls) with ``displacement`` [m] and any
+* ``blocks``: polygons of rigid blocks (a block wall) with ``displacement`` [m] and any
   per-block forces the run gives (e.g. ``water_force``) [N/m]
-* ``grains``: polygons of polygonal grains (case B's gravel), ``held`` (1: held fixed)
+* ``grains``: polygons of polygonal grains (a fill of them), ``held`` (1: held fixed)
 * ``joints``: points, ``normal_force`` of each block contact [N/m]
 * ``points``: any other point set a study logs with a value per point (e.g. the sheet
   pile's balls with their bending moment)

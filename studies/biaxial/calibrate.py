@@ -183,7 +183,7 @@ def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card, recorde
 def _write_curves(rf: RunFolder, tests: list[dict]) -> None:
     """Every test's stress-strain curve to ``biaxial_curves.csv`` (stresses in kPa) and
     ``biaxial.png`` in the run folder."""
-    from viz.figures import plot_biaxial
+    from viz.figures import plot_shear_test
 
     rows = []
     for t in tests:
@@ -192,7 +192,7 @@ def _write_curves(rf: RunFolder, tests: list[dict]) -> None:
             rows.append([t["friction"], t["confining"] / 1e3, e, s1 / 1e3, s3 / 1e3, ev])
     rf.write_csv("biaxial_curves.csv", ["friction", "confining_kPa", "eps_axial", "sigma_1_kPa",
                                         "sigma_3_kPa", "eps_vol"], rows)
-    plot_biaxial({f"mu={t['friction']:.3g}, {t['confining'] / 1e3:g} kPa":
+    plot_shear_test({f"mu={t['friction']:.3g}, {t['confining'] / 1e3:g} kPa":
                   (t["curve"]["eps_axial"], t["curve"]["sigma_1"], t["curve"]["sigma_3"], t["curve"]["eps_vol"])
                   for t in tests}, rf.file("biaxial.png"),
                  title="Biaxial tests (Khosravi Fig. 4 style)")

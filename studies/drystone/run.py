@@ -136,7 +136,7 @@ def increment_logger(rec, progress=None):
 
 def write_outputs(folder, case: DrystoneCase, result: dict, res) -> None:
     """History CSV + PNG, mechanism PNG, comparison CSV (the run folder's files)."""
-    from viz.figures import plot_drystone_history, plot_drystone_mechanism
+    from .figures import plot_drystone_history, plot_drystone_mechanism
 
     notes = result["assumptions"]
     folder.write_csv("history.csv", ["water_height_m", "crest_displacement_m", "settled", "time_s"],
@@ -161,14 +161,17 @@ def write_outputs(folder, case: DrystoneCase, result: dict, res) -> None:
 def compare_wall(case: DrystoneCase, *, root: Path, rrd: str | None = None, record: bool = True,
                  spawn: bool = False, progress=None) -> tuple[dict, Path]:
     """``wallsim compare drystone``: one wall to failure, its run folder written."""
-    from viz.recorder import drystone_blueprint
+    from viz import paths as P
+    from viz.recorder import Layout, Series
 
     from ..runner import finish, open_recording, open_run_folder
 
     folder = open_run_folder("drystone", case, root, seed=None)
     path = Path(rrd) if rrd else (folder.file("recording.rrd") if record else None)
     rec = open_recording(path, study="drystone", recording_id=f"drystone-{case.wall}", dim=2,
-                         blueprint=drystone_blueprint(), spawn=spawn, folder=folder)
+                         layout=Layout(2, "blocks (colour: displacement), water, joint forces", (
+                             Series("crest displacement mm", f"{P.METRICS}/crest_displacement_mm"),
+                             Series("water height m", f"{P.METRICS}/water_height_m"))), spawn=spawn, folder=folder)
     rec.log_case("\n".join([f"# {case.wall}, {case.geometry} geometry", "", RIGID_NOTE, "", "Assumed:",
                             *[f"- {a}" for a in assumptions(case)]]))
 

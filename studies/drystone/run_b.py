@@ -162,7 +162,9 @@ def backfill_assumptions(case: DrystoneCase) -> list[str]:
 
 def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None:
     """stages.csv, thrust.png (DEM and Coulomb against H_b, with the thrust height), mechanism.png."""
-    from viz.figures import plot_drystone_mechanism, plot_series
+    from viz.figures import plot_series
+
+    from .figures import plot_drystone_mechanism
 
     st, co = result["stages"], result["coulomb"]["rows"]
     keys = ["backfill_height_m", "thrust_N_m", "thrust_vertical_N_m", "thrust_height_m", "formwork_thrust_N_m",
@@ -225,7 +227,8 @@ def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, 
     ``resume`` (an interrupted run's folder, ``case`` its config) goes on from it, or
     from the start when there is none, and ends as the uninterrupted run, bit for bit;
     its recording (the stages after the resume) goes to recording-resumed.rrd."""
-    from viz.recorder import drystone_backfill_blueprint
+    from viz import paths as P
+    from viz.recorder import Layout, Series
 
     from ..runner import drop_checkpoint, finish, open_recording, open_run_folder
     from ..store import atomic_write
@@ -236,7 +239,10 @@ def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, 
     default_rrd = "recording-resumed.rrd" if resume is not None else "recording.rrd"
     path = Path(rrd) if rrd else (folder.file(default_rrd) if record else None)
     rec = open_recording(path, study="drystone", recording_id=f"drystone-{case.wall}-seed{case.backfill.seed}", dim=2,
-                         blueprint=drystone_backfill_blueprint(), spawn=spawn, folder=folder)
+                         layout=Layout(2, "blocks (colour: displacement), grains, force chains", (
+                             Series("backfill height m", f"{P.METRICS}/backfill_height_m"),
+                             Series("fill thrust kN/m", P.METRIC_THRUST),
+                             Series("crest displacement mm", f"{P.METRICS}/crest_displacement_mm"))), spawn=spawn, folder=folder)
     rec.log_case("\n".join([f"# {case.wall} under gravel backfill, seed {case.backfill.seed}", "", RIGID_NOTE, "",
                             "Assumed:", *[f"- {a}" for a in assumptions(case) + backfill_assumptions(case)]]))
 

@@ -86,7 +86,7 @@ def run_folder(case: DrystoneCase, what: str, root: Path) -> Path:
 def _wall_figures(case: DrystoneCase, r: dict, res, folder: Path) -> None:
     """history.png (water height vs crest displacement) and mechanism.png (the blocks at
     failure) of one wall's run, in ``folder``."""
-    from viz.figures import plot_drystone_history, plot_drystone_mechanism
+    from .figures import plot_drystone_history, plot_drystone_mechanism
 
     le = r["limit_equilibrium"]["yield-design"]
     plot_drystone_history(res.water_height_m, res.crest_displacement_m, folder / "history.png",

@@ -14,12 +14,12 @@ from studies.store import atomic_write, to_plain
 def write_figures(folder, result: dict) -> list[str]:
     """biaxial.png (curves), biaxial_vs_friction.png, interface.png (angle against
     displacement), interface_vs_friction.png in the run folder; their names."""
-    from viz.figures import plot_biaxial, plot_series
+    from viz.figures import plot_shear_test, plot_series
 
     names = []
     if "biaxial" in result:
         b = result["biaxial"]
-        plot_biaxial({f"local {t['friction_deg']:g} deg, seed {t['seed']}":
+        plot_shear_test({f"local {t['friction_deg']:g} deg, seed {t['seed']}":
                       (t["curve"]["eps_axial"], _smooth(t["curve"]["sigma_1"], t), _smooth(t["curve"]["sigma_3"], t),
                        t["curve"]["eps_vol"]) for t in b["tests"]}, folder.file("biaxial.png"),
                      title=f"Gravel biaxial, 35 kPa ({result.get('grain_shape', 'capsule')} AR 2.5, 10-16 mm); "

@@ -41,7 +41,7 @@ def unread_cells(layer_readings: list, panel_height: float) -> int:
 def write_backfilling(rf: RunFolder, layer_readings: list, panel_height: float, *, gamma: float, H: float,
                       n_grains: int) -> None:
     """backfilling.csv (one row per layer and cell, height above the base) and Fig. 9."""
-    from viz.figures import plot_khosravi_backfilling
+    from .figures import plot_khosravi_backfilling
 
     rf.write_csv("backfilling.csv", ["layer", "surface_m", "panel", "panel_centre_height_m", "sigma_h_kPa"],
                  [[layer, surf, i, (i + 0.5) * panel_height, s / 1e3]

@@ -187,9 +187,9 @@ def _translate(run: KhosraviRun, rest, recorder, bar, frames: int, clock: Stopwa
 
 def _recording(path: Path | None, case: KhosraviCase, folder: RunFolder):
     """The run's recorder (Rerun at ``path``, VTK with ``--vtk``), or None when it records nothing."""
-    from viz.recorder import khosravi_blueprint
+    from viz.recorder import wall_layout
     recorder = open_recording(path, study="khosravi", dim=2, folder=folder,
-                              recording_id=f"khosravi-{case.seed}", blueprint=khosravi_blueprint())
+                              recording_id=f"khosravi-{case.seed}", layout=wall_layout(2, "disks, pressure cells and force chains"))
     if not recorder.enabled:
         return None
     recorder.log_case(_case_text(case))
@@ -356,7 +356,7 @@ def _write_tables(rf, run: KhosraviRun, rest) -> None:
 def _write_figures(rf, run: KhosraviRun, rest, result: dict, th: dict) -> None:
     """Khosravi et al.'s Figs. 9 (while filling, with backfilling.csv), 10 (at rest), 12
     (readings against Dis/H) and 13 (profiles against the theories)."""
-    from viz.figures import plot_khosravi_at_rest, plot_khosravi_profiles, plot_khosravi_vs_displacement
+    from .figures import plot_khosravi_at_rest, plot_khosravi_profiles, plot_khosravi_vs_displacement
     from .backfilling import write_backfilling
 
     c, bf, dem = run.case, run.backfill, result["dem"]

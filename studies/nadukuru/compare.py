@@ -64,7 +64,8 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
                      spawn: bool = False, every: int = 5, record: bool = True, progress=None,
                      resume: Path | None = None) -> tuple[dict, Path]:
     """Run (or, with ``resume`` = an interrupted run's folder, continue) the comparison."""
-    from viz.recorder import nadukuru_blueprint
+    from viz import paths as P
+    from viz.recorder import wall_layout
 
     clock = Stopwatch()
     folder = open_run_folder("nadukuru", case, root, resume=resume)
@@ -73,7 +74,9 @@ def compare_nadukuru(case: NadukuruCase, wall_kind: str, *, root: Path = Path("r
     # a resumed run records what it runs: the part after the resume, in its own file
     rrd_path = Path(rrd) if rrd is not None else folder.file("recording-resumed.rrd" if resume else "recording.rrd")
     recorder = open_recording(rrd_path if record else None, study="nadukuru", dim=3, spawn=spawn, folder=folder,
-                              recording_id=f"{folder.path.name}-{case.movement.mode}", blueprint=nadukuru_blueprint())
+                              recording_id=f"{folder.path.name}-{case.movement.mode}",
+                              layout=wall_layout(3, "backfill, wall segments and force chains",
+                                                 (P.METRIC_PANEL_STRESS,)))
     recorder.log_case(_case_markdown(case, wall_kind, spec, cmp.phi, cmp.phi_source))
     _log_theory(recorder, cmp.phi, case, cmp.gamma, cmp.H)
     with clock("movement"):
@@ -146,7 +149,9 @@ def _write_figures(folder, case: NadukuruCase, wall_kind: str, spec, hist: dict,
                    cmp: Comparison, resumed: bool = False) -> None:
     """The paper's figures for this run: Fig. 4 (K), Fig. 5 (segments), Fig. 3 (field,
     chains; after a resume the field covers the movement since the resume, and says so)."""
-    from viz.figures import plot_displacement_field, plot_force_chains, plot_load_history, plot_segment_stress
+    from viz.figures import plot_displacement_field, plot_force_chains
+
+    from .figures import plot_load_history, plot_segment_stress
 
     mode = MODE_TITLES[case.movement.mode]
     label = f"{case.movement.mode} ({wall_kind})"

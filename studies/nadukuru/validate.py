@@ -261,7 +261,7 @@ def _draw_wall_figures(out_dir: Path, wall_kind: str, case: NadukuruCase, modes,
     """Figs. 4 and 5 of the paper for one wall (K vs Delta/H, segment stresses) and, when
     the RT run drew them (``chains``, its folder), its force chains and Fig. 3(a)
     displacement field."""
-    from viz.figures import plot_load_history, plot_segment_stress
+    from .figures import plot_load_history, plot_segment_stress
 
     paper_K = {m: paper_values(m, wall_kind)["K"] for m in modes if paper_values(m, wall_kind)["K"]}
     plot_load_history(curves, out_dir / f"nadukuru_fig4_{wall_kind}.png", paper=paper_K,

@@ -212,6 +212,20 @@ def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log
 
 
 
+def _layout():
+    """How the recording opens: grains, the sheet pile coloured by its moment and the
+    shear-strain cells; thrust on both faces, passive K 1.5 m below the dredge line,
+    wall top and rotation, the largest moment."""
+    from viz import paths as P
+    from viz.recorder import Layout, Series
+    m = P.METRICS
+    return Layout(3, "grains, sheet pile (moment), max shear strain", (
+        Series("thrust on both faces kN/m", m, ("$origin/thrust_back_kN_per_m", "$origin/thrust_front_kN_per_m")),
+        Series("passive K 1.5 m below dredge line", m, ("$origin/passive_K_at_1_5m",)),
+        Series("wall top m, rotation deg", m, ("$origin/top_displacement_m", "$origin/rotation_deg")),
+        Series("largest moment kN m/m", m, ("$origin/max_moment_kN_m_per_m",))))
+
+
 class _Recording:
     """The run's recording (prototype seconds on the sim_time timeline) and progress bar:
     every sample the thrusts, wall top, rotation, passive K, largest moment and the sheet
@@ -219,11 +233,9 @@ class _Recording:
     the grains every 10th sample; the shear-strain cells at their snapshot times."""
 
     def __init__(self, case: SeismicCase, path, folder, x0_rows, model, porosity: float, progress):
-        from viz.recorder import seismic_blueprint
-
         from ..runner import open_recording
         self.rec = open_recording(path, study="seismic", recording_id=folder.path.name, dim=3,
-                                  blueprint=seismic_blueprint(), folder=folder)
+                                  layout=_layout(), folder=folder)
         self.case, self.x0_rows, self.model, self.porosity, self.progress = case, x0_rows, model, porosity, progress
         self.count = 0
         self.wall: list = []          # (step, time, wall ball positions, moment per ball [kN m/m])
@@ -311,7 +323,7 @@ def _write_tables(folder, case, prepared, shaken, series, maps) -> None:
 
 
 def _figures(folder, case, shaken, series, porosity, settled, maps, skipped) -> None:
-    from viz.figures import plot_seismic, plot_seismic_K_rotation, plot_seismic_strain
+    from .figures import plot_seismic, plot_seismic_K_rotation, plot_seismic_strain
     title = f"{case.frequency:g} Hz, 0.1 g (prototype), grain scale {case.scale:g}"
     mo = mononobe_okabe_overlay(case, porosity)
     plot_seismic(case.scale_N, shaken.readings, series, profiles_table(case, shaken), mo,
