@@ -146,6 +146,16 @@ def recorded_options(options: dict):
         _options.reset(token)
 
 
+def run_root_and_options(opts, kept: dict) -> tuple[Path, dict]:
+    """Where a command's run goes and the run options it keeps: ``opts.out`` and ``kept``,
+    or, with ``--resume``, the interrupted run's root (its specimen caches are under it)
+    and the options it started with, which win over today's defaults (it records as it
+    did)."""
+    if not getattr(opts, "resume", None):
+        return Path(opts.out), kept
+    return Path(opts.resume).resolve().parents[1], kept | saved_options(opts.resume)
+
+
 def saved_options(run_dir: str | Path) -> dict:
     """The run options an interrupted run started with ({} for runs before they were kept)."""
     p = Path(run_dir) / "run_options.json"

@@ -56,16 +56,11 @@ def _compare_b(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..runner import closing_line
     from .run_b import compare_backfill
 
-    from ..runner import recorded_options, saved_options
+    from ..runner import recorded_options, run_root_and_options
 
     top = case.section().height_m + case.backfill.formwork_m
     kept = {"rrd": opts.rrd if isinstance(opts.rrd, str) else None, "no_rrd": opts.no_rrd}
-    root = Path(opts.out)
-    if opts.resume:
-        # a resume runs where the run started and records as it did: the saved options
-        # win over today's defaults
-        root = Path(opts.resume).resolve().parents[1]
-        kept |= saved_options(opts.resume)
+    root, kept = run_root_and_options(opts, kept)
     with progress(opts.quiet) as bar, recorded_options(kept):
         task = bar.add_task(f"{case.wall}: backfill height (% of h + formwork)", total=100)
 

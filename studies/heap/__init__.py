@@ -27,16 +27,11 @@ def _default_case():
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
-    from ..runner import recorded_options, saved_options
+    from ..runner import recorded_options, run_root_and_options
     from .compare import compare_heap
 
     kept = {"rrd": opts.rrd if isinstance(opts.rrd, str) else None, "no_rrd": opts.no_rrd}
-    root = Path(opts.out)
-    if opts.resume:
-        # a resume runs where the run started and records as it did: the saved options
-        # win over today's defaults
-        root = Path(opts.resume).resolve().parents[1]
-        kept |= saved_options(opts.resume)
+    root, kept = run_root_and_options(opts, kept)
     with progress(opts.quiet) as bar, recorded_options(kept):
         result, folder = compare_heap(case, root=root, rrd=kept["rrd"], spawn=opts.spawn, record=not kept["no_rrd"],
                                       progress=bar, resume=Path(opts.resume) if opts.resume else None)

@@ -34,16 +34,11 @@ def _validation_case():
 
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
-    from ..runner import recorded_options, saved_options
+    from ..runner import recorded_options, run_root_and_options
     from .compare import compare_khosravi
 
     kept = {"rrd": opts.rrd, "no_cache": opts.no_cache}
-    root = Path(opts.out)
-    if opts.resume:
-        # a resume runs where the run started (its specimen store is under that root) and
-        # records and caches as it did: the saved options win over today's defaults
-        root = Path(opts.resume).resolve().parents[1]
-        kept |= saved_options(opts.resume)
+    root, kept = run_root_and_options(opts, kept)
     with recorded_options(kept):
         result, rf = compare_khosravi(case, root=root, rrd=kept["rrd"], quiet=opts.quiet,
                                       specimen_cache=not kept["no_cache"], resume=opts.resume)

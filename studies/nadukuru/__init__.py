@@ -43,16 +43,11 @@ def wall_kind(case) -> str:
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
-    from ..runner import recorded_options, saved_options
+    from ..runner import recorded_options, run_root_and_options
     from .compare import compare_nadukuru
 
     kept = {"rrd": opts.rrd if isinstance(opts.rrd, str) else None, "no_rrd": opts.no_rrd, "every": opts.every}
-    root = Path(opts.out)
-    if opts.resume:
-        # a resume runs where the run started (its specimen cache and phi card are under
-        # that root) and records as it did: the saved options win over today's defaults
-        root = Path(opts.resume).resolve().parents[1]
-        kept |= saved_options(opts.resume)
+    root, kept = run_root_and_options(opts, kept)
     with progress(opts.quiet) as bar, recorded_options(kept):
         result, folder = compare_nadukuru(case, wall_kind(case), root=root, rrd=kept["rrd"], spawn=opts.spawn,
                                           every=kept["every"], record=not kept["no_rrd"], progress=bar,

@@ -33,16 +33,11 @@ def _default_case():
 
 def _compare(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import progress
-    from ..runner import recorded_options, saved_options
+    from ..runner import recorded_options, run_root_and_options
     from .compare import compare_seismic
 
     kept = {"rrd": opts.rrd}
-    root = Path(opts.out)
-    if opts.resume:
-        # a resume runs where the run started (its static-state cache is under that root)
-        # and records as it did
-        root = Path(opts.resume).resolve().parents[1]
-        kept |= saved_options(opts.resume)
+    root, kept = run_root_and_options(opts, kept)
     with progress(opts.quiet) as bar, recorded_options(kept):
         task = bar.add_task("shaking", total=1, status="")
         result, folder = compare_seismic(
