@@ -44,10 +44,10 @@ from typing import Callable, Iterable, Mapping
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from .constants import GAMMA_W
 from .errors import InvalidParameter
 from .inputs import require_number
 
-GAMMA_W = 9.81  # kN/m3, unit weight of water (ref. 5.3)
 METHODS = ("bed-joints", "yield-design")
 # ref. 2.1 / 2.3 [A]: the DEM blocks of S-OET, 0.30 m long and 0.125 m high
 BLOCK_LENGTH_M = 0.30

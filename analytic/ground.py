@@ -41,12 +41,12 @@ from scipy.integrate import quad
 from .classical import _surcharge_factor, coulomb_coefficient, rankine_coefficient
 from .ec7 import annex_c_coefficients
 from .errors import InvalidParameter, NotApplicable
+from .constants import GAMMA_WATER
 from .inputs import Wall, require_number, require_vertical_level
 from .profile import Profile
 from .surcharge import LineLoad, StripLoad
 from .wedge import cohesive_wedge
 
-GAMMA_WATER = 9.81e3            # N/m^3
 METHODS = ("rankine", "coulomb", "ec7-annex-c")
 _SOURCES = {
     "rankine": "Rankine (1857) with Bell's (1915) cohesion term; effective stresses, water apart",

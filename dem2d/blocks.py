@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pymunk
 
+from analytic.constants import G, GAMMA_WATER
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 from analytic.schema import check_fields, param
@@ -38,8 +39,6 @@ from .sim import _sigint_between_steps
 
 #: collision types: every block, and the fixed foundation under the first course
 BLOCK_TYPE, FOUNDATION_TYPE = 21, 22
-GAMMA_WATER = 9810.0     # unit weight of water [N/m^3]
-G = 9.81                 # [m/s^2]
 
 
 # ---------------------------------------------------------------------------- settings

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pymunk
 
+from analytic.constants import G
 from analytic.errors import InvalidParameter
 
 from .params import Material, Solver
@@ -43,7 +44,7 @@ def friction_split(mu_pp: float, mu_pw: float) -> tuple[float, float]:
     return g, mu_pw / g
 
 
-def new_space(solver: Solver, *, gravity: tuple[float, float] = (0.0, -9.81),
+def new_space(solver: Solver, *, gravity: tuple[float, float] = (0.0, -G),
               r_min: float, d_max: float, expected_shapes: int = 10_000) -> pymunk.Space:
     """An empty space with the solver settings applied.
 

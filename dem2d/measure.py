@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from analytic.constants import G
+
 
 def kinetic_energy(velocity: np.ndarray, mass: np.ndarray, spin: np.ndarray | None = None,
                    moment: np.ndarray | None = None) -> float:
@@ -21,7 +23,7 @@ def kinetic_energy(velocity: np.ndarray, mass: np.ndarray, spin: np.ndarray | No
 
 
 def weight_normalised_unbalance(v_before: np.ndarray, v_after: np.ndarray, dt: float,
-                           mass: np.ndarray, g: float = 9.81) -> float:
+                           mass: np.ndarray, g: float = G) -> float:
     """Unbalanced force over weight, sum |m dv/dt| / sum m g [-]. Not PFC's
     "unbalanced force ratio" (mean unbalanced over mean contact force, which is
     ``dem3d.measure.unbalanced_force_ratio``): that name means only that one here.

@@ -26,6 +26,8 @@ from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param
 
 from .build import add_disks
+from analytic.constants import G
+
 from .grading import Grading
 from .measure import kinetic_energy, weight_normalised_unbalance
 from .params import Material
@@ -189,7 +191,7 @@ def _overburden_factor(sim: Sim, surface: float) -> np.ndarray | None:
 
 def pluviate(sim: Sim, grading: Grading, material: Material, *, x0: float, x1: float,
              floor: float, height: float, settings: Pluviation,
-             g: float = 9.81) -> Iterator[LayerStatus]:
+             g: float = G) -> Iterator[LayerStatus]:
     """Fill the strip x0..x1 above ``floor`` [m] to ``height`` [m] of deposit, layer by
     layer (module docstring). Grains go into ``sim`` (disks, ``material``); the random
     draws come from ``sim.rng``. Yields a ``LayerStatus`` after every settling check;

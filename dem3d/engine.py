@@ -22,6 +22,7 @@ from typing import NamedTuple, Sequence
 import numba
 import numpy as np
 
+from analytic.constants import G
 from analytic.errors import InvalidParameter
 
 from . import kernels
@@ -75,7 +76,7 @@ class Simulation:
     """
 
     def __init__(self, specimen: Specimen, params: ContactParams, *, dt: float,
-                 walls: Sequence[Wall] = (), gravity=(0.0, 0.0, -9.81),
+                 walls: Sequence[Wall] = (), gravity=(0.0, 0.0, -G),
                  periodic: Periodic | None = None, skin: float | None = None,
                  allow_unsafe_dt: bool = False, sort_by_cell: bool = True,
                  spheres_per_thread: int = 4000, sort_every: int = 50, materials=None,

@@ -6,6 +6,7 @@ The wall study rains it (``studies.nadukuru``), the triaxial test calibrates it
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import dem3d
@@ -91,3 +92,13 @@ def contact_law(rec: SpecimenRecipe, mu: float, local: float, softening: float =
     """The recipe's linear law; ``softening`` divides both stiffnesses (deposition only)."""
     return dem3d.linear(rec.kn / softening, rec.ks / softening, mu, zeta_n=rec.damping_ratio, zeta_s=0.0,
                         local_damping=local)
+
+
+def time_step(rec: SpecimenRecipe, scale: float = 1.0) -> float:
+    """The recipe's time step [s]: its ``dt``, else dem3d's DT_SAFETY x the critical step
+    of its lightest sphere (diameter ``scale`` x d_min; dem3d.critical_time_step)."""
+    if rec.dt is not None:
+        return rec.dt
+    d = scale * rec.d_min
+    m_min = rec.density * math.pi / 6.0 * d ** 3
+    return dem3d.DT_SAFETY * dem3d.critical_time_step(contact_law(rec, 0.0, 0.0), m_min, d / 2, rec.density)

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 from ..classical import coulomb_coefficient, rankine_coefficient
 from ..errors import InvalidParameter, NotApplicable
+from ..constants import GAMMA_W
 from ..ground import Ground, Layer, earth_pressure
 from ..inputs import MAX_PRESSURE_KPA, MAX_UNIT_WEIGHT_KN_M3, Wall, require_number
 from ..seismic import mononobe_okabe_coefficient
@@ -27,7 +28,6 @@ from .walls import WallBack
 
 METHODS = ("rankine-virtual-back", "coulomb", "ec7-annex-c")
 GROUND_METHODS = {"rankine-virtual-back": "rankine", "coulomb": "coulomb", "ec7-annex-c": "ec7-annex-c"}
-GAMMA_W = 9.81  # kN/m3
 
 
 def check_soil(table: str, soil) -> None:

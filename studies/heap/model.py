@@ -47,12 +47,12 @@ import numpy as np
 
 import dem3d
 from analytic.errors import InvalidParameter
+from analytic.constants import G
 from analytic.schema import check_fields, param, seed_param
 from dem3d import measure
 from studies.granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS
 from studies.store import content_key
 
-G = 9.81
 _CATCH_DEPTH = 1.2        # m below the base: the spill pile stays clear of the base
 _GENERATION_FRACTIONS = (0.25, 0.2, 0.15)
 
@@ -166,9 +166,10 @@ def contact(case: HeapCase, local: float) -> dem3d.ContactParams:
 
 
 def time_step(case: HeapCase) -> float:
-    """0.2 x sqrt(m_min / k) of the lightest sphere [s] (the wall study's rule)."""
+    """dem3d's DT_SAFETY x the critical step of the lightest sphere [s] (the wall study's rule)."""
     m_min = case.density * math.pi / 6.0 * case.d_min ** 3
-    return 0.2 * math.sqrt(m_min / max(case.kn, case.ks))
+    law = dem3d.linear(case.kn, case.ks, 0.0)
+    return dem3d.DT_SAFETY * dem3d.critical_time_step(law, m_min, case.d_min / 2, case.density)
 
 
 def base_half(case: HeapCase, side: int) -> list:

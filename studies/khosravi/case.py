@@ -32,6 +32,7 @@ from analytic.schema import check_fields, param, seed_param
 
 from dem2d.build import Grains, friction_split, new_space
 from dem2d.grading import Grading
+from analytic.constants import G
 from dem2d.params import Material, Solver
 from dem2d.pluviation import Pluviation
 from dem2d.sim import Sim
@@ -206,6 +207,6 @@ def build_box(case: KhosraviCase) -> Sim:
     return sim
 
 
-def unit_weight(case: KhosraviCase, porosity: float, g: float = 9.81) -> float:
+def unit_weight(case: KhosraviCase, porosity: float, g: float = G) -> float:
     """gamma = Gs rho_w g (1 - n) [N/m^3] (Khosravi et al. eq. 1)."""
     return case.gs * RHO_WATER * g * (1.0 - porosity)

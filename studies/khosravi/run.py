@@ -21,12 +21,12 @@ import numpy as np
 
 from dem2d.frames import Frame
 from dem2d.measure import panel_stresses, readings, solid_fraction
+from analytic.constants import G
 from dem2d.pluviation import LayerStatus, pluviate, surface_height
 from .case import KhosraviCase, build_box
 from dem2d.sim import Sim, restore
 from dem2d.walls import Translate
 
-G = 9.81
 
 
 class WallReading(NamedTuple):

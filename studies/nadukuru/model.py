@@ -38,14 +38,15 @@ from analytic.inputs import MAX_HEIGHT_M
 from analytic.schema import check_fields, param, seed_param
 from dem3d import measure
 
+from analytic.constants import G
+
 from ..config import with_current_names
-from ..granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law
+from ..granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law, time_step
 from ..measures import steady_displacement
 from ..report import theory_row
 from ..store import Store, atomic_write, content_key, load_npz, npz_bytes
 from ..progress import step_with_progress
 
-G = 9.81
 MODES = ("T", "RB", "RT", "mixed")
 MODE_TITLES = {"T": "translation", "RB": "rotation about the base", "RT": "rotation about the top",
                "mixed": "rotation about a point H/2 above the top"}
@@ -116,7 +117,7 @@ class NadukuruCase:
         check_fields(self)
         rec = self.specimen
         if rec.dt is not None:
-            safe = _dt(dataclasses.replace(rec, dt=None), grain_scale(rec, self.wall)[0])
+            safe = time_step(dataclasses.replace(rec, dt=None), grain_scale(rec, self.wall)[0])
             if rec.dt > safe * (1 + 1e-9):
                 raise InvalidParameter("dt", rec.dt, f"(0, {safe:.4g}] s", "0.2 x the critical step of the "
                                        "lightest grain at these particles; the default takes it")
@@ -136,7 +137,7 @@ class NadukuruCase:
         ``prepare_specimen``'s stages at their caps (fall from the tallest cloud, pack,
         stiffen, friction on, load to g, at rest) and ``move_wall``'s."""
         rec, wall = self.specimen, self.wall
-        dt = _dt(rec, grain_scale(rec, wall)[0])
+        dt = time_step(rec, grain_scale(rec, wall)[0])
         dt_soft = dt * math.sqrt(rec.deposition_softening)
         top = (1.0 - rec.target_porosity) * wall.height * _OVERFILL / _GENERATION_FRACTIONS[-1]
         fall = 1.2 * math.sqrt(2.0 * top / (G * rec.deposition_gravity)) / dt_soft + 1.0 / dt_soft
@@ -224,13 +225,6 @@ def _guard_above_wall(wall: WallSetup, top: float) -> dem3d.Wall:
     return dem3d.Wall("guard", [guard])
 
 
-def _dt(rec: SpecimenRecipe, scale: float) -> float:
-    if rec.dt is not None:
-        return rec.dt
-    m_min = rec.density * math.pi / 6.0 * (scale * rec.d_min) ** 3
-    return 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
-
-
 # ----------------------------------------------------------------------------- specimen
 @dataclass(frozen=True)
 class Specimen:
@@ -275,7 +269,7 @@ def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
     s, w = grain_scale(rec, case.wall)
     wall = dataclasses.replace(case.wall, width=w)
     spec, gen_height = _loose_fill(rec, wall, s, rng)
-    dt = _dt(rec, s)
+    dt = time_step(rec, s)
     walls = _box_walls(wall, rec)
     log = _StageLog()
     sim, steps = _rain_and_pack(spec, rec, wall, walls, gen_height, s * rec.d_max, dt, progress, log)

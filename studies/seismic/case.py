@@ -23,10 +23,10 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
+from analytic.constants import G
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param, seed_param
 
-G = 9.81
 
 #: grain_scale of each resolution preset: coarse 3x the paper's grains (~15k spheres, the
 #: default: one frequency in < 30 min on one core; 3 is the largest the 3 cm periodic slab

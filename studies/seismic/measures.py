@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from analytic.inputs import Soil, Wall as WallInput
+from analytic.constants import G
 from analytic.seismic import mononobe_okabe
 from analytic.classical import coulomb
 from dem3d.measure import max_shear_strain, section_forces, settlement_profile, strain_field
@@ -128,7 +129,7 @@ def settlement(x_ref: np.ndarray, x_cur: np.ndarray, radii: np.ndarray, case: Se
 
 def unit_weight(case: SeismicCase, porosity: float) -> float:
     """Dry unit weight at 1 g [N/m^3] (prototype; the model's at N g is N times it)."""
-    return case.grain_density * (1.0 - porosity) * 9.81
+    return case.grain_density * (1.0 - porosity) * G
 
 
 def mononobe_okabe_overlay(case: SeismicCase, porosity: float, phi_deg: float = 31.0,

@@ -30,7 +30,7 @@ from analytic.inputs import MAX_PRESSURE_KPA
 from analytic.schema import check_fields, param, seed_param
 
 from ..store import atomic_write, content_key
-from ..granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law
+from ..granular import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law, time_step
 
 
 @dataclass
@@ -95,8 +95,7 @@ class TriaxialCase:
         """(time steps of the test at most, the time step [s]): the compaction at its cap
         (400,000), the re-balance (2000) and the shear (``run_triaxial``)."""
         rec, setup = self.specimen, self.setup
-        m_min = rec.density * math.pi / 6.0 * rec.d_min**3
-        dt = rec.dt or 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
+        dt = time_step(rec)
         return 400_000 + 2000 + setup.max_strain / setup.strain_rate / dt, dt
 
 
@@ -144,8 +143,7 @@ def run_triaxial(rec: SpecimenRecipe, setup: TriaxialSetup = TriaxialSetup(), *,
     spec, side0 = _loose_cube(rec, particles, rng)
     servo = [ServoVelocity() for _ in range(6)]
     walls = platen_walls(side0, servo)
-    m_min = rec.density * math.pi / 6.0 * rec.d_min**3
-    dt = rec.dt or 0.2 * math.sqrt(m_min / max(rec.kn, rec.ks))
+    dt = time_step(rec)
     mu_compact = mu_compact_of(setup, rec)
     sim = dem3d.Simulation(spec, contact_law(rec, mu_compact, rec.local_damping), dt=dt, walls=walls,
                            gravity=(0.0, 0.0, 0.0))
