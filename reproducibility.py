@@ -2,7 +2,7 @@
 
 A DEM run is chaotic: one ulp of difference anywhere grows into another K. Three
 libraries under wallsim choose their code by the CPU they find, and the choices end
-in different last bits (measured on this project's machines, issue 37):
+in different last bits (measured on this project's machines):
 
 - glibc's libm (sin, cos, exp, log, pow, atan2, ...; called by the numba kernels, by
   Python's ``math``, by numpy's scalar loops and by pymunk's body rotation) has FMA

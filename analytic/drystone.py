@@ -17,7 +17,7 @@ Two variants (``method``):
     rigid blocks separated by bed joints only: sliding along, and toppling about the
     outer edge of, every bed joint z_k = k * course_height (theta = -alpha, the
     separation along the joint). What a DEM wall of bed and head joints allows without
-    a staircase, and the design check "for every bed joint" (issue 23).
+    a staircase, and the design check "for every bed joint".
 ``"yield-design"``
     the reference's section-5 reconstruction: z searched over [0, h) (a homogenised
     masonry has a bed joint everywhere), and for toppling theta over
@@ -544,7 +544,7 @@ def backfill_limit_equilibrium(section: WallSection, phi_b_deg: float, unit_weig
 
 @dataclass(frozen=True)
 class Band:
-    """Critical heights over a set of inputs (issue 23, "band_m").
+    """Critical heights over a set of inputs ("band_m" of the validation report).
 
     lo_m, hi_m        lowest and highest critical height [m]
     lo_label, hi_label  the input that gave each

@@ -83,7 +83,7 @@ class Masonry:
 
 @dataclass(frozen=True)
 class BlockSolver:
-    """pymunk settings for rigid blocks (issue 23's probe: slop 1e-4 m, 10-40 iterations,
+    """pymunk settings for rigid blocks (a probe of the settings: slop 1e-4 m, 10-40 iterations,
     dt <= 5e-4 s for a converged critical height)."""
 
     # 5e-6 s: the halved step (``halved``, the convergence check) of the cases' 1e-5 s
@@ -101,7 +101,7 @@ class BlockSolver:
         check_fields(self)
 
     def halved(self) -> "BlockSolver":
-        """dt / 2 and twice the iterations (the convergence check of issue 23)."""
+        """dt / 2 and twice the iterations (the validation's convergence check)."""
         return BlockSolver(self.dt / 2, self.iterations * 2, self.collision_slop, self.overlap_time)
 
 
@@ -123,7 +123,7 @@ class LoadingPlan:
 
     The *window* kinetic energy uses each block's mean velocity over a reading interval
     (displacement / interval), not the instantaneous one: the solver's contact jitter
-    (1-4 mm/s, zero mean; issue 23's probe) then does not read as motion.
+    (1-4 mm/s, zero mean; a probe of the settings) then does not read as motion.
     """
 
     increment_fraction: float = 0.01
@@ -241,7 +241,7 @@ def course_pieces(section, block_length: float = 0.30, block_height: float = 0.1
 def pair_friction(space: pymunk.Space, table: dict[tuple[int, int], float], *,
                   handler: bool = False) -> dict[int, float]:
     """Friction per pair of materials (collision types). pymunk multiplies the two shapes'
-    frictions (issue 23's probe: 34.3 deg from the product rule where 25 deg was meant).
+    frictions (a probe found 34.3 deg from the product rule where 25 deg was meant).
 
     When the table is a product table (f_a f_b = mu_ab for every pair, as with one block
     material on one foundation) the returned shape values give every pair exactly, and

@@ -1,4 +1,4 @@
-"""Elongated gravel grains for the dry-stone case B (issue 24), on pymunk.
+"""Elongated gravel grains for the dry-stone case B, on pymunk.
 
 Colas's backfill as Oetomo et al. model it (S-OET, ../shared/reference/drystone-walls.md
 3.1): grains of aspect ratio AR = 2.5, linear grading of widths 10-16 mm, local friction
@@ -7,7 +7,7 @@ placing with a temporary local friction of 15.6 deg and then restoring it.
 
 Grain shape: a **capsule** (a pymunk Segment with a radius: a rectangle w x (L - w) with
 two half-disk caps, L = AR w). One shape per grain, and pymunk's segment-segment
-collision is as cheap as circle-circle: issue 24's probe ran capsules at 112 steps per
+collision is as cheap as circle-circle: a probe ran capsules at 112 steps per
 CPU-second at 5k grains with the spatial hash against about half that for three-circle
 clumps of the same outline. A capsule has a straight flank (no clump "bumps", so no
 artificial interlocking that the clumps' overlap would set) and its contact normal is

@@ -1,4 +1,4 @@
-"""Biaxial test of the capsule gravel (issue 24): ``dem2d.biaxial`` with capsule grains.
+"""Biaxial test of the capsule gravel: ``dem2d.biaxial`` with capsule grains.
 
 S-OET (../shared/reference/drystone-walls.md 3.1) calibrated the gravel's local friction
 so that the DEM reproduces Colas's triaxial tests at the representative mean stress of

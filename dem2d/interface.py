@@ -1,4 +1,4 @@
-"""Constant-normal-load interface shear test: gravel against a block face (issue 24).
+"""Constant-normal-load interface shear test: gravel against a block face.
 
 S-OET (../shared/reference/drystone-walls.md 3.1) calibrated the local fill-block friction
 (25 deg) to the global interface angle of Colas's backfill (37.7 deg) in a PFC2D shear
@@ -21,7 +21,7 @@ S-OET's 25 -> 37.7 deg comes from the roughness of their block faces (hollow clu
 disks: bumps of a disk radius) that the grains must ride over or shear through; a flat
 polygon block has none. Case B therefore needs either a local interface friction set
 to the global target (37.7 deg) on flat faces, or a rough face (bumps of the site's
-R_n ~ 1.5) calibrated here: an open choice for issue 24. Measured at S-OET's size
+R_n ~ 1.5) calibrated here: an open choice. Measured at S-OET's size
 (0.90 x 0.50 m, 962 grains at n = 0.22 sizing, 35 kPa, seed 1, dt 5e-4 s, 10 iterations,
 5e-3 m/s): 24.91 deg from a local 25 deg, N within 0.01 % of the applied load, 790
 steps per CPU-second. At S-OET's 5e-4 m/s (same box, 10 mm): 24.92 deg at 4 mm, then

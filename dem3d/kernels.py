@@ -813,7 +813,7 @@ def _check(x, v, w, x_ref, i, ref_limit2, speed_limit2):
     Takes the arrays the caller wrote through, never the record (``sph.x``): inside a
     prange body LLVM may serve a read through the record's pointer from before the write
     through the local name, and which one it does depends on the CPU it compiles for
-    (a rebuild was missed on one target and taken on another, issue 37)."""
+    (a rebuild was missed on one target and taken on another)."""
     ddx = x[i, 0] - x_ref[i, 0]
     ddy = x[i, 1] - x_ref[i, 1]
     ddz = x[i, 2] - x_ref[i, 2]

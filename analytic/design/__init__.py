@@ -1,4 +1,4 @@
-"""Design checks of retaining walls (issue 29): sliding, overturning, bearing and
+"""Design checks of retaining walls: sliding, overturning, bearing and
 eccentricity of cantilever, gravity and block walls, verified to EN 1997-1 (DA1, DA2,
 DA3, EQU), EN 1998-5 (seismic) or by classical factors of safety.
 

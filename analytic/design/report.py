@@ -92,7 +92,7 @@ def _check_json(label: str, c) -> dict:
 
 
 def design_json(case: DesignCase, result: FormatResult, fs_required: dict | None = None) -> dict:
-    """The JSON of one format (keys of issue 29; 'fs' adds the factors of safety)."""
+    """The JSON of one format (the keys the design output documents; 'fs' adds the factors of safety)."""
     lead = result.lead
     out = {"format": result.format, "wall": case.wall.kind, "B_m": lead.B}
     if result.format == "fs":

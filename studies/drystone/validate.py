@@ -25,7 +25,7 @@ from ..runfolder import git_revision, package_versions
 
 from ..runner import finished_result, reusing_line
 from ..store import atomic_write, content_key, to_plain
-from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT, GEOMETRIES, DrystoneCase, reference
+from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT, DrystoneCase, GEOMETRIES, reference, solver
 from .run import RIGID_NOTE, increment_logger, limit_equilibrium, run_dem, wall_result
 
 
@@ -149,7 +149,7 @@ def band(case: DrystoneCase, dem: bool, log=None, root: Path = Path("runs")) -> 
 
 
 def convergence(case: DrystoneCase, base: dict, root: Path = Path("runs"), log=None) -> dict:
-    """The same wall with dt / 2 and twice the iterations (issue 23; ``dem_run``, under ``root``)."""
+    """The same wall with dt / 2 and twice the iterations (``dem_run``, under ``root``)."""
     fine = replace(case, dt=case.dt / 2, iterations=case.iterations * 2)
     r = dem_run(fine, "convergence", root, log=log)
     h0, h1 = base["dem"]["critical_height_m"], r["dem"]["critical_height_m"]
@@ -180,7 +180,7 @@ def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: b
 
 
 def entry(r: dict) -> dict:
-    """The per-wall record of drystone.json (keys as issue 23 lists them, then the rest)."""
+    """The per-wall record of drystone.json (the report's keys first, then the rest)."""
     d, le = r["dem"], r["limit_equilibrium"]["yield-design"]
     conv = r["convergence"]
     return {"critical_height_m": d["critical_height_m"], "mode": d["mode"], "mechanism_level_m": d["mechanism_level_m"],
@@ -231,7 +231,7 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
     rep = {"case": "A", "study": "drystone", "walls": {w: entry(r) for w, r in results.items()},
            "settings": {"geometry": case.geometry, "dt_s": case.dt, "iterations": case.iterations,
                         "water_direction": case.water_direction, "increment_fraction": case.increment_fraction,
-                        "block_length_m": case.block_length, "block_height_m": case.block_height, "collision_slop_m": 1e-4,
+                        "block_length_m": case.block_length, "block_height_m": case.block_height, "collision_slop_m": solver(case).collision_slop,
                         "unit_weight_kN_m3": case.unit_weight_kN_m3},
            "note": RIGID_NOTE, "git": git, "versions": package_versions(),
            "reproducibility": reproducibility.describe(),

@@ -1,4 +1,4 @@
-"""The case-B gravel (issue 24): its local grain and fill-block frictions recalibrated for
+"""The case-B gravel: its local grain and fill-block frictions recalibrated for
 rigid capsules against the global targets S-OET calibrated PFC's values to (biaxial peak
 37.7 deg at 35 kPa; interface 37.7 deg). ``calibrate`` (the two series, the report);
 modules ``calibrate`` (plan and tests) and ``report`` (files). The study record is

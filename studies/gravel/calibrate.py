@@ -3,7 +3,7 @@
 S-OET (../shared/reference/drystone-walls.md 3.1) tuned two local values for PFC's soft
 clump contacts: grain-grain 45 deg (biaxial peak 37.7 deg at 35 kPa, Colas's triaxial)
 and grain-block 25 deg (global 37.7 deg in a constant-normal-load shear test). They do
-not carry over to rigid capsules (issue 24), so both are recalibrated against the same
+not carry over to rigid capsules, so both are recalibrated against the same
 *global* targets:
 
 1. biaxial series (``dem2d.gravel_biaxial``): peak and critical-state angle against the
@@ -11,8 +11,8 @@ not carry over to rigid capsules (issue 24), so both are recalibrated against th
    and critical state 32 deg (Colas's angle of repose, S-OET's stand-in): the least
    squares of the two misfits [deg] on the seed means, linear between tested values
    (``choose_both``). The peak alone chose 72.8 deg for capsules, whose critical state
-   was then 25 deg and could not hold the 32-deg re-cut slope of case B (issue 24;
-   gravel_calibration_discussion.md). The peak-only value is reported beside;
+   was then 25 deg and could not hold the 32-deg re-cut slope of case B
+   (gravel_calibration_discussion.md). The peak-only value is reported beside;
 2. interface series (``dem2d.interface``, the grains at our grain friction): global
    interface angle against the local fill-block friction; ours is the local value whose
    global angle is 37.7 deg. On a flat face tan(global) <= mu_local (Coulomb), so the

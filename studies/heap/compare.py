@@ -4,7 +4,7 @@ Writes the run folder (config.toml, manifest.json, result.json, base_stress.csv,
 subsidence.csv, surface.csv, fig1a_heap.png, fig1b_force_chains.png,
 fig1c_base_stress.png, centre_over_peak.png, recording.rrd) and returns the result dict
 that ``--json`` prints. While it runs, checkpoints/heap.npz holds the run so far
-(issue 38: ``--resume`` continues it bit for bit); it is gone once the result is written.
+(``--resume`` continues it bit for bit); it is gone once the result is written.
 """
 
 from __future__ import annotations

@@ -31,7 +31,7 @@ Assumptions (the paper omits "the remaining details"), all case fields:
 Stress normalisation: rho g (1 - n) H, n the heap's measured porosity, H its height.
 
 A run (``run_heap``) goes through ``STAGES``; it hands over checkpoints between engine
-calls (every 300 s and every 10 % of a stage) and resumes from one bit for bit (issue 38).
+calls (every 300 s and every 10 % of a stage) and resumes from one bit for bit.
 The engine is called ``chunk_steps`` steps at a time, so Ctrl-C acts within about a second.
 """
 

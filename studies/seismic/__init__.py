@@ -12,7 +12,7 @@ assumption: ../shared/reference/seismic-sheetpile.md, reference.json.
 case's contact parameters; ``validate`` runs the paper's frequencies and writes
 docs/validation/seismic.{md,json}.
 
-Not done yet (issue 26): how the results move between two resolutions and across the
+Not done yet: how the results move between two resolutions and across the
 assumed rolling resistance.
 """
 

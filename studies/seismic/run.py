@@ -7,7 +7,7 @@ that shapes them (all frequencies start from the same state);
 resumable: ``checkpoint(state)`` is handed everything the loop needs to go on (the
 engines of the main model and of both columns, the free-field segments' velocities, the
 readings and snapshots so far) and ``shake(..., resume=state)`` continues from it bit
-for bit (issue 38).
+for bit.
 """
 
 from __future__ import annotations

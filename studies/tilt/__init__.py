@@ -69,7 +69,7 @@ def tilt_tests(case: TiltCase) -> dict:
         s["error_deg"] = s["slide_angle_deg"] - s["friction_deg"]
     for t in topples:
         t["error_deg"] = t["topple_angle_deg"] - t["expected_deg"]
-    return {"slides": slides, "topples": topples}
+    return {"slides": slides, "topples": topples, "collision_slop_m": solver.collision_slop}
 
 
 def _calibrate(case: TiltCase, opts: SimpleNamespace) -> tuple[dict, str]:
@@ -85,7 +85,7 @@ def _calibrate(case: TiltCase, opts: SimpleNamespace) -> tuple[dict, str]:
                       for t in r["topples"]])
     seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
     result = {"case": "tilt", **r, "dt_s": case.dt, "iterations": case.iterations,
-              "resolution_deg": case.resolution_deg, "collision_slop_m": 1e-4,
+              "resolution_deg": case.resolution_deg,
               "wall_time_s": seconds, "cpu_time_s": cpu, "run_folder": str(folder.path)}
     finish(folder, result, particles=2, dt_s=case.dt, iterations=case.iterations, wall_time_s=seconds,
            cpu_time_s=cpu)
