@@ -13,7 +13,7 @@ element gives
     (a = 1:  -gamma H u ln u + q u)
 
 The methods differ in K_w and in how the slip surface enters the exponent ``a``
-(../shared/reference/analytic-formulas.md sections 4-6; /work research note):
+(docs/reference/analytic-formulas.md sections 4-6; /work research note):
 
 =================  ==============================  ======================================
 method             K_w                             exponent a

@@ -1,6 +1,6 @@
 """Classical earth-pressure theories: Rankine, Coulomb, Jaky, Janssen.
 
-Formulas, conventions and checked numbers: ../shared/reference/analytic-formulas.md
+Formulas, conventions and checked numbers: docs/reference/analytic-formulas.md
 sections 1-3 and 9 (and ``analytic-values.txt``). All functions take the frozen
 ``Soil`` and ``Wall`` records and return a ``Profile`` (see ``profile.py`` for signs).
 

@@ -1,6 +1,6 @@
 """Rigid-block limit equilibrium of dry-stone retaining walls (pure, no I/O).
 
-Follows ../shared/reference/drystone-walls.md (cited below as "ref."):
+Follows docs/reference/drystone-walls.md (cited below as "ref."):
 
 * section and loads: ref. 5.3 (trapezoid, x inward from the outer toe, y up; when the
   bed joints dip toward the fill at alpha > 0 the base is the bed plane through the

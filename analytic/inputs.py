@@ -3,7 +3,7 @@
 Angles are in degrees at this interface (what engineers type), radians inside the
 solvers. Lengths in m, unit weights in N/m^3, stresses in Pa.
 
-Sign conventions (../shared/reference/analytic-formulas.md section 1):
+Sign conventions (docs/reference/analytic-formulas.md section 1):
 
 * ``beta``  backfill slope, positive rising away from the wall.
 * ``omega`` inclination of the wall back face from vertical, positive when the heel

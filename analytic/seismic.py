@@ -1,6 +1,6 @@
 """Pseudo-static seismic thrust: Mononobe-Okabe and the Seed & Whitman simplification.
 
-Formulas: ../shared/reference/analytic-formulas.md section 8 (checked against the
+Formulas: docs/reference/analytic-formulas.md section 8 (checked against the
 EN 1998-5 example K_ad = 0.4856177, K_pd = 2.6, and a pseudo-static trial wedge).
 kh, kv are the horizontal and vertical seismic coefficients; kv > 0 is upward
 (reduces the weight), as in Das/Kramer.

@@ -1,6 +1,6 @@
 """Dry-stone case B: a gravel backfill (grains of ``Gravel.shape``) placed in layers against a ``BlockWall``.
 
-S-OET (../shared/reference/drystone-walls.md 3.1) load Colas's walls with their gravel:
+S-OET (docs/reference/drystone-walls.md 3.1) load Colas's walls with their gravel:
 10 cm layers in a 2.5 m wide container, the slope re-cut to 32 deg before each stage,
 the fill continued above the crest against a formwork column, until the wall's
 kinetic energy stays above 0.1 J/m (10 checks). Here:

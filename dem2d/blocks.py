@@ -1,6 +1,6 @@
 """Dry-stone walls of rigid polygon blocks on pymunk, loaded by water to failure.
 
-Oetomo et al. (S-OET, ../shared/reference/drystone-walls.md 2.1) model Villemus's walls
+Oetomo et al. (S-OET, docs/reference/drystone-walls.md 2.1) model Villemus's walls
 as courses of 0.30 x 0.125 m blocks with staggered joints, bed joints dipping toward
 the fill by alpha, head joints perpendicular to them, the first course fixed, and raise
 hydrostatic water on the inner face by 1 % of h per increment until the wall's kinetic

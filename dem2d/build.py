@@ -1,6 +1,6 @@
 """Building a ``pymunk.Space``: solver settings, grains (disks, clumps, polygon blocks).
 
-Conventions (../shared/STACK.md 1.2, measured on pymunk 7.3.1):
+Conventions (measured on pymunk 7.3.1):
 
 * SI units; a 2D "density" is kg per m^2 of the plane = rho_s x 1 m of wall, so masses
   and forces are *per metre of wall*.

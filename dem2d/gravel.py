@@ -1,6 +1,6 @@
 """Elongated gravel grains for the dry-stone case B, on pymunk.
 
-Colas's backfill as Oetomo et al. model it (S-OET, ../shared/reference/drystone-walls.md
+Colas's backfill as Oetomo et al. model it (S-OET, docs/reference/drystone-walls.md
 3.1): grains of aspect ratio AR = 2.5, linear grading of widths 10-16 mm, local friction
 45 deg, interface (fill-block) friction 25 deg, initial porosity n0 = 0.22 reached by
 placing with a temporary local friction of 15.6 deg and then restoring it.

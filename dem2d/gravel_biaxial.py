@@ -1,6 +1,6 @@
 """Biaxial test of the capsule gravel: ``dem2d.biaxial`` with capsule grains.
 
-S-OET (../shared/reference/drystone-walls.md 3.1) calibrated the gravel's local friction
+S-OET (docs/reference/drystone-walls.md 3.1) calibrated the gravel's local friction
 so that the DEM reproduces Colas's triaxial tests at the representative mean stress of
 35 kPa: peak 37.7 deg, dilatancy 8 deg, critical state about 32 deg (the angle of
 repose). This module runs the same biaxial test as the Khosravi calibration

@@ -1,6 +1,6 @@
 """Constant-normal-load interface shear test: gravel against a block face.
 
-S-OET (../shared/reference/drystone-walls.md 3.1) calibrated the local fill-block friction
+S-OET (docs/reference/drystone-walls.md 3.1) calibrated the local fill-block friction
 (25 deg) to the global interface angle of Colas's backfill (37.7 deg) in a PFC2D shear
 test: a 0.90 x 0.50 m box of about 925 grains sheared over a block face at a constant
 normal stress of 35 kPa and 5e-4 m/s. Here:

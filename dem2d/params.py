@@ -3,7 +3,7 @@
 pymunk (Chipmunk2D / Munk2D) is an impulse-based contact-dynamics solver: contacts are
 rigid, forces are accumulated impulses / dt (Lagrange multipliers), and there is no
 contact stiffness. What follows from that is written in ``docs/dem2d.md``; the
-settings that matter (../shared/STACK.md 1.4) are chosen here on purpose:
+settings that matter are chosen here on purpose:
 
 * ``dt``: not limited by stiffness; limited by how far a grain may move in a step
   before its contact is detected (overlap is allowed and corrected afterwards).
@@ -52,7 +52,7 @@ class Solver:
                                        "the bounding-box tree")
     threads: int = param(1, lo=1, hi=2,
                          meaning="solver threads: 1 = serial and bit-for-bit repeatable, 2 = Chipmunk's threaded "
-                                 "\"hasty\" solver (not repeatable; ../shared/STACK.md 1.8)")
+                                 "\"hasty\" solver (not repeatable)")
 
     def __post_init__(self):
         check_fields(self)

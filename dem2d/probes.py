@@ -9,7 +9,7 @@ these impulses over a window of steps and dividing by the window's duration give
     F_panel = (1 / T) sum_steps J_panel,          T = n_steps dt     [N per m of wall]
 
 A ``post_solve`` callback (one per panel collision type, so no look-up) adds the
-impulse. It costs about 7 us per wall contact per step (../shared/STACK.md 1.5), so
+impulse. It costs about 7 us per wall contact per step, so
 the callbacks are only switched on while a window is open.
 """
 

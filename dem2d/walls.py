@@ -1,6 +1,6 @@
 """Walls made of panels (pressure cells) and the drivers that move them.
 
-Geometry, motion and interaction are kept apart (../shared/STYLE.md, Part B):
+Geometry, motion and interaction are kept apart:
 
 * ``PanelWall``: N straight panels between two points. Each panel is its own KINEMATIC
   body with one ``Segment`` shape and its own collision type, so the force on each
@@ -10,7 +10,7 @@ Geometry, motion and interaction are kept apart (../shared/STYLE.md, Part B):
 * Drivers (``Fixed``, ``Translate``, ``RotateAbout``, ``Schedule``) are pure functions of
   time returning (pivot velocity [m/s], angular velocity [rad/s], CCW positive).
 * Kinematic walls are moved by velocity, never by assigning positions
-  (../shared/STACK.md 1.3); a kinematic body has infinite mass and ignores gravity.
+  ; a kinematic body has infinite mass and ignores gravity.
   A wall at rest is a kinematic body with zero velocity.
 """
 

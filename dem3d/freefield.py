@@ -1,5 +1,5 @@
 """Absorbing free-field lateral boundaries (Lysmer & Kuhlemeyer 1969 dashpots tied to a
-free-field column; the Itasca FLAC/PFC formulation, ../shared/reference/
+free-field column; the Itasca FLAC/PFC formulation, docs/reference/
 seismic-sheetpile.md section 5.2), adapted to DEM.
 
 Continuum formulation, per unit boundary area at depth z, outward normal n_out:

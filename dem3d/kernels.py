@@ -2,7 +2,7 @@
 
 Why one file: numba's on-disk cache is keyed on the source file of the function being
 compiled; a change to a jitted helper imported from *another* file does not invalidate the
-caller's cache (numba #1833, #9483; ../shared/STACK.md 3.1). Keeping the contact law, the
+caller's cache (numba #1833, #9483). Keeping the contact law, the
 geometry helpers and the loops that call them together makes a stale cache impossible.
 
 Layout of one time step (no shared accumulator in any parallel loop, so every result is
@@ -36,7 +36,7 @@ No fastmath: with ``reassoc``/``contract`` a freshly compiled process and one lo
 the same kernels from numba's cache gave different bits (LLVM fuses and reorders
 differently depending on where a function gets inlined), which breaks run-to-run
 reproducibility; strict IEEE code cost < 5 % here. (``nnan``/``ninf`` would also disable
-the non-finite check, ../shared/STACK.md 3.1.)
+the non-finite check.)
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Contact-law parameters and the time-step rule.
 
 ``ContactParams`` is a NamedTuple of plain numbers so numba types it (and caches kernels
-that take it); frozen dataclasses are rejected by numba (../shared/STYLE.md Part B).
+that take it); frozen dataclasses are rejected by numba.
 Build it with :func:`linear` (PFC linear model) or :func:`hertz_mindlin`.
 
 The same law acts between two particles and between a particle and a wall panel; a panel

@@ -11,7 +11,7 @@ of each particle-particle contact, N), ``panel_corners`` ((p,4,3) in 3D, (p,2,2)
 
 Always an explicit ``RecordingStream`` written to a file (plus a viewer with
 ``spawn=True``); never the global stream, never a stream without a sink (it would
-buffer everything in RAM, ../shared/STACK.md 2.1).
+buffer everything in RAM).
 """
 
 from __future__ import annotations

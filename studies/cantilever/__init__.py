@@ -2,7 +2,7 @@
 parallel-bond stiffness that gives a two-sheet strip of balls the flexural rigidity
 E t^3 / 12, checked by a DEM cantilever against Euler-Bernoulli (tip deflection and
 first frequency). Engine: ``dem3d.cantilever``; data:
-../shared/reference/seismic-sheetpile.md (EI = 416.7 N m^2/m at model scale: E 40 GPa,
+docs/reference/seismic-sheetpile.md (EI = 416.7 N m^2/m at model scale: E 40 GPa,
 t 5 mm; the bond parameters are not published, so they are calibrated here)."""
 
 from __future__ import annotations

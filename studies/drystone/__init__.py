@@ -8,7 +8,7 @@ Modules: ``case`` (the case record, the geometry estimates, what is assumed; cas
 ``run_b`` (one case-B wall: the fill to failure, Coulomb with the slope, run folder),
 ``validate`` (case A: five walls, the solver-convergence check and the bands ->
 docs/validation/drystone.{md,json}). Data: ``reference.json`` (from
-../shared/reference/drystone-walls.md). The study record is ``STUDY``.
+docs/reference/drystone-walls.md). The study record is ``STUDY``.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The dry-stone case record and what it resolves to: the wall's section (one of the two
-geometry estimates of ../shared/reference/drystone-walls.md), masonry, solver and
+geometry estimates of docs/reference/drystone-walls.md), masonry, solver and
 loading plan, with every value tagged found / derived / assumed."""
 
 from __future__ import annotations

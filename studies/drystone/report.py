@@ -319,7 +319,7 @@ def case_a_lines(rep: dict) -> list[str]:
     lines = ["# Dry-stone retaining walls, case A: Villemus's walls loaded by water (DEM of rigid blocks)", "",
              f"Command: `wallsim validate drystone --case A`; git {rep['git']}; {rep['created']}.",
              "Paper: Oetomo et al. (PFC2D), Tables 2-3; site values Villemus et al. (2007). Data and tags: "
-             "`studies/drystone/reference.json` from ../shared/reference/drystone-walls.md.", "",
+             "`studies/drystone/reference.json` from docs/reference/drystone-walls.md.", "",
              f"Engine `dem2d.blocks` (pymunk {rep['versions'].get('pymunk', '?')}): courses of "
              f"{s['block_length_m']:g} x {s['block_height_m']:g} m rigid blocks with staggered joints, first course fixed, "
              f"dt {s['dt_s']:g} s, {s['iterations']} sweeps, collision slop {s['collision_slop_m']:g} m, friction "

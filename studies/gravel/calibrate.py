@@ -1,6 +1,6 @@
 """``wallsim calibrate gravel``: the case-B gravel's local frictions from its global targets.
 
-S-OET (../shared/reference/drystone-walls.md 3.1) tuned two local values for PFC's soft
+S-OET (docs/reference/drystone-walls.md 3.1) tuned two local values for PFC's soft
 clump contacts: grain-grain 45 deg (biaxial peak 37.7 deg at 35 kPa, Colas's triaxial)
 and grain-block 25 deg (global 37.7 deg in a constant-normal-load shear test). They do
 not carry over to rigid capsules, so both are recalibrated against the same

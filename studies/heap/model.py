@@ -1,7 +1,7 @@
 """Nadukuru & Michalowski (2012), Fig. 1: a prismatic heap whose base subsides at the
 centre. The case builder over dem3d (the engine is used as it is).
 
-Paper (section "Arching", Fig. 1; ../shared/seeds/nadukuru-michalowski-2012-arching.txt):
+Paper (Nadukuru & Michalowski 2012, section "Arching", Fig. 1):
 ~12,000 particles (75 % spheres, 25 % clumps of two spheres overlapping by one radius),
 friction 0.65, "particles between 2.3 and 3.7 cm", rained into a box with a base of
 4.8 x 0.6 m; side walls removed so a prismatic heap forms by rolling and sliding; the two

@@ -1,8 +1,7 @@
 """Khosravi et al.'s PFC2D translation case as a ``Case`` record and its box builder.
 
 Khosravi, Hamed Azad, Bahaaddini & Pipatpong, "DEM analysis of backfilled walls
-subjected to active translation mode" (../shared/seeds/khosravi-dem-translation-pfc2d.txt,
-../shared/BENCHMARKS.md §2):
+subjected to active translation mode" (PFC2D; the values its text states):
 
 * box 220 mm wide x 400 mm high; one side is the rigid retaining wall, fully rough
   (wall friction = backfill friction), split into 40 segments of 10 mm (pressure cells);

@@ -6,7 +6,7 @@ Modules: ``case`` (the record in model units, resolution presets, centrifuge sca
 ``model`` (deposit, wall, excavation, boundaries, base motion), ``run`` (static state,
 cached; the shaking), ``measures`` (wall, faces, moments, settlement, Mononobe-Okabe),
 ``compare`` (one frequency: run folder, tables, figures, recording). Data and every
-assumption: ../shared/reference/seismic-sheetpile.md, reference.json.
+assumption: docs/reference/seismic-sheetpile.md, reference.json.
 
 ``material`` measures Vs / f0 of the free-field columns and phi from a triaxial at the
 case's contact parameters; ``validate`` runs the paper's frequencies and writes

@@ -1,6 +1,6 @@
 """The seismic sheet-pile case (Sizkow & El Shamy): a frozen record in model units (a
 50 g centrifuge model, SI), its resolution presets and the centrifuge scaling to
-prototype units. Data and every assumption: ../shared/reference/seismic-sheetpile.md,
+prototype units. Data and every assumption: docs/reference/seismic-sheetpile.md,
 tagged per value in reference.json ([F] found, [D] derived, [A] assumption).
 
 Coordinates (model, m): x along the model, the wall's front face (excavated side) at

@@ -217,7 +217,7 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
         rep = block | {"trends_across_frequencies": across_frequencies(freqs), "versions": package_versions(),
                        "reproducibility": reproducibility.describe(),
                        "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
-                                 "../shared/reference/seismic-sheetpile.md"}
+                                 "docs/reference/seismic-sheetpile.md"}
         if old is not None and case.resolution == default and "other_resolutions" in old:
             rep["other_resolutions"] = old["other_resolutions"]
     else:

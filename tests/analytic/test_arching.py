@@ -1,5 +1,5 @@
 """Arching methods. theta_w and K_an (Paik & Salgado 2003) are checked against the
-independent implementation tabulated in ../shared/reference/analytic-values.txt and
+independent implementation tabulated in docs/reference/analytic-values.txt and
 against exact limits; the flat-element profiles are reconstructions (analytic/arching.py
 says which), so they are checked against their closed-form properties and the
 reference table of the same reconstruction, never presented as the papers' numbers."""

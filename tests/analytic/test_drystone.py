@@ -1,7 +1,7 @@
 """Rigid-block limit equilibrium of dry-stone walls (analytic/drystone.py).
 
 Sources of the numbers: hand computations worked in each docstring; the reference's
-back-calculated table of case A (../shared/reference/drystone-walls.md 2.3), its disk-count
+back-calculated table of case A (docs/reference/drystone-walls.md 2.3), its disk-count
 sections (section 6) and its Coulomb check values (section 5.3)."""
 
 import math

@@ -1,5 +1,5 @@
 """`wallsim calibrate cantilever`: the bonded-ball sheet pile of Sizkow & El Shamy at
-model scale (E 40 GPa, t 5 mm, L 13.5 cm; ../shared/reference/seismic-sheetpile.md)
+model scale (E 40 GPa, t 5 mm, L 13.5 cm; docs/reference/seismic-sheetpile.md)
 against Euler-Bernoulli through the study layer: run folder, JSON, numbers."""
 
 import json

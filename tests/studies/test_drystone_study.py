@@ -2,7 +2,7 @@
 
 Sources: the limit equilibrium of the part above the fixed first course
 (analytic.drystone, reference 5.4, sliding H = W tan(phi_b)) for the DEM's critical
-height; ../shared/reference/drystone-walls.md 2.1 (S-OET Table 3) for the measured
+height; docs/reference/drystone-walls.md 2.1 (S-OET Table 3) for the measured
 values the result must carry; tests/cli/test_user_errors.py for the error contract.
 """
 

@@ -1,4 +1,4 @@
-"""The seismic sheet-pile study (Sizkow & El Shamy; ../shared/reference/seismic-sheetpile.md)
+"""The seismic sheet-pile study (Sizkow & El Shamy; docs/reference/seismic-sheetpile.md)
 at reduced size: what holds at any size. The model keeps the paper's wall EI and mass
 per area at every resolution; the wall is in horizontal equilibrium, static and while
 shaken; a seed reproduces the run bit for bit."""
@@ -123,7 +123,7 @@ def test_a_seed_reproduces_the_run(tiny):
 
 def test_mononobe_okabe_overlay_is_the_references_table():
     """phi 31 deg, delta 0, kh 0.1, kv 0: K_A 0.320, K_AE 0.382, K_P 3.12, K_PE 2.94
-    (../shared/reference/seismic-sheetpile.md section 8, in reference.json)."""
+    (docs/reference/seismic-sheetpile.md section 8, in reference.json)."""
     from studies import get
     from studies.seismic.measures import mononobe_okabe_overlay
     ref = get("seismic").reference()["mononobe_okabe"]["delta_0"]

@@ -10,7 +10,7 @@ What each test holds the files to:
   frame); Newton's third law (the contact forces on all spheres and on all panels
   cancel) for dem3d; for a dry-stone wall, the blocks' water loads sum to the
   hydrostatic thrust gamma_w (h_w - h_1)^2 / 2 on the face above the fixed first course
-  (S-OET: first course fixed; ../shared/reference/drystone-walls.md 2.1).
+  (S-OET: first course fixed; docs/reference/drystone-walls.md 2.1).
 """
 
 import csv
