@@ -210,3 +210,11 @@ class Specimen(NamedTuple):
     clump: np.ndarray
     density: float
     velocities: np.ndarray | None = None
+
+
+class Periodic(NamedTuple):
+    """Periodic boundary along one axis (0, 1, 2 = x, y, z): coordinates in [lo, lo + length)."""
+
+    axis: int
+    lo: float
+    length: float

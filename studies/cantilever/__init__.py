@@ -65,7 +65,7 @@ class CantileverCase:
         """(balls, time steps at most) of ``dem3d.cantilever.cantilever_check`` for this
         case, from its formulas and nothing allocated: layers x rows balls; the relaxation
         stops after at most 100 periods of the beam and 3.5 more are timed, at 0.2 x the
-        bonds' critical step (``dem3d.engine._bond_critical_step``)."""
+        bonds' critical step (``dem3d.bonds.bond_critical_step``)."""
         r = self.thickness / (2.0 * self.layers)
         rows = int(round(self.length / (2.0 * r))) + 1
         rb = self.radius_multiplier * r
