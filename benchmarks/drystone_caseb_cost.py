@@ -7,7 +7,7 @@ Prints steps and body-steps per CPU second.
 """
 import time, copy
 from analytic.drystone import WallSection
-from dem2d.backfill import BackfilledWall, FillPlan
+from studies.drystone.backfill import BackfilledWall, FillPlan
 from dem2d.blocks import BlockSolver, Masonry
 from dem2d.gravel import Gravel
 sec=WallSection(1.2, 0.6, 8.53, 0.0, 8.53)

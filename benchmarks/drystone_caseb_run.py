@@ -2,7 +2,7 @@
 drystone --wall C2S|C3S|C4L`` run folder that the issue asks of the one-hour wall, written
 as JSON: critical height and mode beside the measured ones, grains, steps, pymunk steps
 and body-steps per CPU second, CPU and wall time, and where the CPU went (the build of
-the wall and the four phases of every stage, ``dem2d.backfill._PhaseClock``), with each
+the wall and the four phases of every stage, ``studies.drystone.backfill._PhaseClock``), with each
 stage's row. Nothing is computed here that the run folder does not hold, except sums
 and ratios.
 

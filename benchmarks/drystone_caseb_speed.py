@@ -19,7 +19,7 @@ import time
 import pymunk
 
 from analytic.drystone import WallSection
-from dem2d.backfill import BackfilledWall, FillPlan
+from studies.drystone.backfill import BackfilledWall, FillPlan
 from dem2d.blocks import BlockSolver, Masonry
 from dem2d.gravel import Gravel
 from studies.runfolder import git_revision

@@ -56,7 +56,9 @@ from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 from analytic.schema import check_fields, param
 
-from .blocks import BLOCK_TYPE, G, BlockSolver, new_block_space, pair_friction
+from analytic.constants import G
+
+from .blocks import BLOCK_TYPE, BlockSolver, new_block_space, pair_friction
 from .build import GRAIN_TYPE, Grains, union_mass_properties
 from .grading import Grading
 

@@ -46,7 +46,9 @@ import pymunk
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param, seed_param
 
-from .blocks import BLOCK_TYPE, G, BlockSolver, pair_friction
+from analytic.constants import G
+
+from .blocks import BLOCK_TYPE, BlockSolver, pair_friction
 from .gravel import FILL_TYPE, Gravel, add_grains, cloud, grain_area
 
 WALL_TYPE = 23

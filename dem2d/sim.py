@@ -94,7 +94,7 @@ class Sim:
         space, dt = self.space, self.solver.dt
         probe = self._probe
         hooks = self.hooks
-        with _sigint_between_steps() as interrupted:
+        with sigint_between_steps() as interrupted:
             for _ in range(n_steps):
                 for name, drv in self.drivers.items():
                     self.walls[name].drive(drv, self.time)
@@ -231,7 +231,7 @@ class Sim:
 
 
 @contextmanager
-def _sigint_between_steps():
+def sigint_between_steps():
     """Ctrl-C while chipmunk steps would raise inside a post-solve callback (cffi), where
     Python prints "Exception ignored from cffi callback" and the run carries on. Inside
     this block SIGINT only marks the list it yields; the step loop raises

@@ -1,6 +1,6 @@
 """Dry-stone retaining walls (Oetomo et al.'s PFC2D study): case A, Villemus's five walls
 loaded by water, and case B, Colas's three walls under a gravel backfill: rigid blocks on
-pymunk (``dem2d.blocks``, ``dem2d.backfill``) to failure, beside the rigid-block limit
+pymunk (``dem2d.blocks``, ``studies.drystone.backfill``) to failure, beside the rigid-block limit
 equilibrium (``analytic.drystone``) and the site measurements.
 
 Modules: ``case`` (the case record, the geometry estimates, what is assumed; case B's

@@ -35,7 +35,7 @@ CONVERGENCE_LIMIT_PERCENT = float(reference()["tolerances"]["convergence_change_
 
 @dataclass(frozen=True)
 class BackfillSettings:
-    """Case B (``dem2d.backfill``), used by the C walls only. Local values: ours from
+    """Case B (``studies.drystone.backfill``), used by the C walls only. Local values: ours from
     docs/validation/gravel_calibration.md (rigid rounded hexagons), the paper's (PFC2D) beside."""
 
     # ours 50: nearest to both biaxial targets at 35 kPa, peak 36.7 (37.7) and critical state
@@ -112,7 +112,7 @@ class BackfillSettings:
                       placement_friction_deg=self.placement_friction_deg, shape=self.grain_shape)
 
     def plan(self):
-        from dem2d.backfill import FillPlan
+        from .backfill import FillPlan
         return FillPlan(layer_m=self.layer_m, slope_deg=self.slope_deg, container_m=self.container_m,
                         formwork_m=self.formwork_m, formwork=self.formwork, hold_depth_m=self.hold_depth_m,
                         hold_distance_m=self.hold_distance_m)

@@ -247,7 +247,7 @@ def case_b_lines(b: dict) -> list[str]:
             f"`{b.get('runs_root', '?')}`, not committed); runs at git {', '.join(gits)}; report {b['created']} "
             f"(git {b['command_git']}). Paper: Oetomo et al., Table 4 (measured after Colas et al.; the paper's "
             "DEM, two realisations per wall).", "",
-            f"Engine `dem2d.backfill` over `dem2d.blocks`: blocks 0.33 x 0.12 m, first course free on the "
+            f"The fill protocol `studies.drystone.backfill` over `dem2d.blocks`: blocks 0.33 x 0.12 m, first course free on the "
             f"foundation; gravel of {st['grain_shape']} grains {1e3 * st['width_m'][0]:g}-{1e3 * st['width_m'][1]:g} mm "
             f"wide (aspect ratio 2.5) placed in {st['layer_m']:g} m stages, the slope re-cut to {st['slope_deg']:g} "
             f"deg before each, a {st['container_m']:g} m container, the fill continued {st['formwork_m']:g} m above "

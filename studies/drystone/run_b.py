@@ -1,5 +1,5 @@
 """Case B: one of Colas's walls under a gravel backfill placed in stages until it fails
-(``dem2d.backfill``), beside Coulomb's thrust with the slope and the rigid-block limit
+(``studies.drystone.backfill``), beside Coulomb's thrust with the slope and the rigid-block limit
 equilibrium (``analytic.drystone.backfill_limit_equilibrium``), and its run folder
 (stages CSV, thrust and thrust-height figures, mechanism figure, result.json)."""
 
@@ -59,7 +59,7 @@ def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None, checkpoi
     ``checkpoint(bytes)`` first; ``resume`` (such bytes) continues from one, to the bits
     of the run that was not interrupted. Returns the DEM part of the result and the
     objects the figures need."""
-    from dem2d.backfill import BackfilledWall
+    from .backfill import BackfilledWall
     from dem2d.blocks import BlockSolver, LoadingPlan, classify_mechanism
 
     s, bf = case.section(), case.backfill
@@ -104,7 +104,7 @@ def run_backfill(case: DrystoneCase, *, on_stage=None, on_reading=None, checkpoi
             "speed": {"steps": bw.wall.steps, "steps_per_cpu_s": bw.wall.steps / max(cpu, 1e-9),
                       "body_steps_per_cpu_s": body_steps / max(cpu, 1e-9), "bodies_last": stages[-1]["grains"]
                       if stages else 0, "cpu_build_s": cpu_build,
-                      # where the time goes: per phase of the stages (dem2d.backfill._PhaseClock)
+                      # where the time goes: per phase of the stages (studies.drystone.backfill._PhaseClock)
                       "cpu_by_phase_s": {k: sum(r.get(f"cpu_{k}_s", 0.0) for r in stages) for k in phases},
                       "steps_by_phase": {k: sum(r.get(f"steps_{k}", 0) for r in stages) for k in phases}}}
 

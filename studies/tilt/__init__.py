@@ -51,7 +51,9 @@ class TiltCase:
 
 def tilt_tests(case: TiltCase) -> dict:
     """Every slide and topple test of ``case`` (no files)."""
-    from dem2d.blocks import BlockSolver, tilt_slide_angle, topple_angle
+    from dem2d.blocks import BlockSolver
+
+    from .protocol import tilt_slide_angle, topple_angle
 
     solver = BlockSolver(dt=case.dt, iterations=case.iterations)
     slides = [{"friction_deg": f, "slide_angle_deg": tilt_slide_angle(f, block=(case.block_length_m,

@@ -1,4 +1,4 @@
-"""Case-B fill against a block wall at reduced size (dem2d.backfill): a 0.48 m wall of
+"""Case-B fill against a block wall at reduced size (studies.drystone.backfill): a 0.48 m wall of
 0.33 x 0.12 m blocks (4 courses) with a base of 0.8 m, coarse gravel (20-32 mm wide,
 AR 2.5), a 0.6 m container, 8 stages of 0.1 m to 0.8 m at the inner face (the last
 three above the crest, against the formwork column, which is part of the innermost
@@ -25,7 +25,7 @@ import math
 import pytest
 
 from analytic.drystone import WallSection, backfill_limit_equilibrium
-from dem2d.backfill import BackfilledWall, FillPlan
+from studies.drystone.backfill import BackfilledWall, FillPlan
 from dem2d.blocks import BlockSolver, Masonry
 from dem2d.gravel import Gravel
 

@@ -19,7 +19,8 @@ import pytest
 
 from analytic.drystone import WallSection, section_above_fixed_course, water_limit_equilibrium
 from dem2d.blocks import (BlockWall, LoadingPlan, Masonry, classify_mechanism, course_pieces, rigid_motion_fit,
-                          section_polygon, tilt_slide_angle, topple_angle)
+                          section_polygon)
+from studies.tilt.protocol import tilt_slide_angle, topple_angle
 
 
 @pytest.mark.parametrize("phi, handler", [(36.0, False), (28.5, False), (25.0, True)])

@@ -37,7 +37,7 @@ def test_a_resumed_wall_is_the_straight_one_bit_for_bit(case, tmp_path, monkeypa
     straight, _ = compare_backfill(case, root=tmp_path / "straight", record=False)
     assert len(straight["stages"]) >= 3
 
-    from dem2d.backfill import BackfilledWall
+    from studies.drystone.backfill import BackfilledWall
     original, calls = BackfilledWall.stage, {"n": 0}
 
     def stage(self, on_reading=None):
@@ -62,7 +62,7 @@ def test_a_restored_fill_steps_as_the_original(case):
     """Two stages, a snapshot, and 2000 more steps of the original and of the restored
     copy: every grain and block in the same place, bit for bit (what keeps the pinned
     numbers of runs from before the snapshots)."""
-    from dem2d.backfill import BackfilledWall
+    from studies.drystone.backfill import BackfilledWall
     from dem2d.blocks import BlockSolver, LoadingPlan
     from studies.drystone.case import masonry
 

@@ -56,13 +56,14 @@ import numpy as np
 import pymunk
 from pymunk._chipmunk_cffi import lib
 
+from analytic.constants import G
 from analytic.errors import InvalidParameter
 from analytic.inputs import require_number
 
-from .blocks import (BLOCK_TYPE, FOUNDATION_TYPE, G, BlockSolver, BlockWall, LoadingPlan, Masonry,
-                     _window_energy, new_block_space, pair_friction, section_polygon)
-from .contact_cache import touching_contacts, warm_start
-from .gravel import FILL_TYPE, Gravel, add_grains, grain_area
+from dem2d.blocks import (BLOCK_TYPE, FOUNDATION_TYPE, BlockSolver, BlockWall, LoadingPlan, Masonry,
+                     window_energy, new_block_space, pair_friction, section_polygon)
+from dem2d.contact_cache import touching_contacts, warm_start
+from dem2d.gravel import FILL_TYPE, Gravel, add_grains, grain_area
 
 CONTAINER_TYPE = 24
 #: where the formwork column above the crest is held (``FillPlan.formwork``)
@@ -454,7 +455,7 @@ class BackfilledWall:
         for _ in range(max(int(math.ceil(seconds / lp.reading_interval_s)), 1)):
             w.advance(lp.reading_interval_s)
             x, a = w.positions(), w.angles()
-            e = _window_energy(w, xp, ap, x, a, lp.reading_interval_s)
+            e = window_energy(w, xp, ap, x, a, lp.reading_interval_s)
             xp, ap = x, a
             crest = w.crest_displacement(self.x_start)
             if on_reading is not None:
