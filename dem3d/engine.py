@@ -26,7 +26,7 @@ from analytic.errors import InvalidParameter
 from . import bodies, bonds, checkpoint, kernels, neighbours
 from .errors import BlowUp
 from .params import N_PARAM_FIELDS, ContactParams, check_time_step, critical_time_step, material_table, pair_params
-from .state import Bonds, Pairs, Periodic, Specimen, WallPairs
+from .state import Bonds, Pairs, PanelLoads, Periodic, Specimen, WallMotion, WallPairs
 from .walls import Wall, WallSet
 
 
@@ -308,12 +308,13 @@ class Simulation:
                 om_mid = om_end = np.zeros((1, len(moving)))
                 v_mid = v_end = np.zeros((1, len(moving), 3))
             ref = self.walls._ref
+            motion = WallMotion(self.walls.wall_of_panel, moving, self.walls.pivot, self.walls.axis, ref[0], ref[1],
+                                ref[2], om_mid, v_mid, om_end, v_end)
+            loads = PanelLoads(self.panel_force, self.panel_moment, hist_f[done:] if rows else hist_f,
+                               hist_m[done:] if rows else hist_m)
             ran, time, status, count = kernels.advance(
                 self.spheres, self.clumps, self.pairs, self.wall_pairs, self.walls.panels, self.params,
-                self.dt, gx, gy, gz, pax, plen, self.skin, speed_limit2,
-                self.walls.wall_of_panel, moving, self.walls.pivot, self.walls.axis, ref[0], ref[1], ref[2],
-                om_mid, v_mid, om_end, v_end, self.panel_force, self.panel_moment,
-                hist_f[done:] if rows else hist_f, hist_m[done:] if rows else hist_m, todo, self.time,
+                self.dt, gx, gy, gz, pax, plen, self.skin, speed_limit2, motion, loads, todo, self.time,
                 self.mtab, self.use_f_ext, self.bonds,
                 self.attached if self.attached is not None else _NO_ATTACHED, self.rolling)
             done += ran

@@ -599,19 +599,7 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
             continue
         im = inv_m[i]
         if im > 0.0:
-            ax = fx * im + gx
-            ay = fy * im + gy
-            az = fz * im + gz
-            if alpha > 0.0:
-                ax -= alpha * abs(ax) * _sign(v[i, 0])
-                ay -= alpha * abs(ay) * _sign(v[i, 1])
-                az -= alpha * abs(az) * _sign(v[i, 2])
-            v[i, 0] += dt * ax
-            v[i, 1] += dt * ay
-            v[i, 2] += dt * az
-            x[i, 0] += dt * v[i, 0]
-            x[i, 1] += dt * v[i, 1]
-            x[i, 2] += dt * v[i, 2]
+            _leapfrog(v, x, i, fx, fy, fz, im, gx, gy, gz, alpha, dt)
         ii = sph.inv_i[i]
         if ii > 0.0:
             bx = tx * ii
@@ -807,6 +795,26 @@ def _sign(a):
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
+def _leapfrog(v, x, i, fx, fy, fz, im, gx, gy, gz, alpha, dt):
+    """Translate body ``i`` one step: a = F / m + g with PFC's local damping (each
+    component reduced by alpha |a| against the velocity's sign), then v += dt a (the
+    half-step velocity) and x += dt v. The one update of free spheres and clumps."""
+    ax = fx * im + gx
+    ay = fy * im + gy
+    az = fz * im + gz
+    if alpha > 0.0:
+        ax -= alpha * abs(ax) * _sign(v[i, 0])
+        ay -= alpha * abs(ay) * _sign(v[i, 1])
+        az -= alpha * abs(az) * _sign(v[i, 2])
+    v[i, 0] += dt * ax
+    v[i, 1] += dt * ay
+    v[i, 2] += dt * az
+    x[i, 0] += dt * v[i, 0]
+    x[i, 1] += dt * v[i, 1]
+    x[i, 2] += dt * v[i, 2]
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
 def _check(x, v, w, x_ref, i, ref_limit2, speed_limit2):
     """(moved, bad, fast) flags of sphere i after its update.
 
@@ -911,19 +919,7 @@ def move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2):
             tz += st[m, 2] + (rx * sf[m, 1] - ry * sf[m, 0])
         im = clu.inv_m[c]
         if im > 0.0:
-            ax = fx * im + gx
-            ay = fy * im + gy
-            az = fz * im + gz
-            if alpha > 0.0:
-                ax -= alpha * abs(ax) * _sign(cv_[c, 0])
-                ay -= alpha * abs(ay) * _sign(cv_[c, 1])
-                az -= alpha * abs(az) * _sign(cv_[c, 2])
-            cv_[c, 0] += dt * ax
-            cv_[c, 1] += dt * ay
-            cv_[c, 2] += dt * az
-            cx_[c, 0] += dt * cv_[c, 0]
-            cx_[c, 1] += dt * cv_[c, 1]
-            cx_[c, 2] += dt * cv_[c, 2]
+            _leapfrog(cv_, cx_, c, fx, fy, fz, im, gx, gy, gz, alpha, dt)
         q0 = cq_[c, 0]
         q1 = cq_[c, 1]
         q2 = cq_[c, 2]
@@ -1464,14 +1460,12 @@ def wall_displacement(pan, ref_centre, ref_e1, ref_e2):
 
 @njit(cache=True)
 def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed_limit2,
-            wall_of_panel, moving, pivot, axis, ref_centre, ref_e1, ref_e2,
-            om_mid, v_mid, om_end, v_end, panel_force, panel_moment, hist_force, hist_moment,
-            n_steps, time, mtab, has_fext, bnd, att, rolling):
+            walls, loads, n_steps, time, mtab, has_fext, bnd, att, rolling):
     """Run up to ``n_steps`` steps (module docstring, passes 1-4, then the walls move).
 
-    om_mid, v_mid, om_end, v_end: (n_steps, n_walls[, 3]) wall motion samples at each
-    step's mid and end time (only rows of moving walls are read).
-    hist_force, hist_moment: (n_steps, p, 3) per-step panel loads, or 0 rows to skip.
+    walls: ``state.WallMotion`` (the motion samples of each step: only rows of moving
+    walls are read); loads: ``state.PanelLoads`` (the last step's panel loads and, with
+    rows, every step's).
     mtab, has_fext, bnd: material table or None, external forces on/off, Bonds or None
     (pair_forces, gather_and_move, bond_forces); bonds are evaluated first in each step.
     att: (spheres, walls) int64 arrays of spheres carried by moving walls, empty for none
@@ -1483,6 +1477,8 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
     STATUS_TOO_FAST (count = offending spheres).
     """
+    wall_of_panel, moving, pivot, axis, ref_centre, ref_e1, ref_e2, om_mid, v_mid, om_end, v_end = walls
+    panel_force, panel_moment, hist_force, hist_moment = loads
     ref_limit2 = (0.5 * skin) ** 2
     has_clumps = clu.x.shape[0] > 0
     n_pan = pan.centre.shape[0]

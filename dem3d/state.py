@@ -218,3 +218,38 @@ class Periodic(NamedTuple):
     axis: int
     lo: float
     length: float
+
+
+class WallMotion(NamedTuple):
+    """The walls over a run of steps, as ``kernels.advance`` moves them.
+
+    wall_of_panel:   (p,) wall index of each panel
+    moving:          (n_walls,) bool, the walls with a motion
+    pivot, axis:     (n_walls, 3) each wall's pivot [m] and rotation axis (unit)
+    ref_centre, ref_e1, ref_e2:  (p, 3) panel poses at the last neighbour-list build
+    om_mid, v_mid:   (n_steps, n_walls[, 3]) angular [rad/s] and linear [m/s] velocity
+                     at each step's mid time
+    om_end, v_end:   the same at each step's end
+    """
+
+    wall_of_panel: np.ndarray
+    moving: np.ndarray
+    pivot: np.ndarray
+    axis: np.ndarray
+    ref_centre: np.ndarray
+    ref_e1: np.ndarray
+    ref_e2: np.ndarray
+    om_mid: np.ndarray
+    v_mid: np.ndarray
+    om_end: np.ndarray
+    v_end: np.ndarray
+
+
+class PanelLoads(NamedTuple):
+    """Where ``kernels.advance`` puts the load on every panel: the last step's force and
+    moment (p, 3) [N, N m], and per step (n_steps, p, 3), or 0 rows to keep none."""
+
+    force: np.ndarray
+    moment: np.ndarray
+    hist_force: np.ndarray
+    hist_moment: np.ndarray
