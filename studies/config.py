@@ -221,11 +221,6 @@ def apply_sets(case, sets: list[str] | None):
     return apply_overrides(case, _set_items(sets))
 
 
-def apply_toml(case, path: str | Path):
-    """Apply every key of a TOML file (tables map to nested records)."""
-    return apply_overrides(case, toml_items(read_toml(path)))
-
-
 def read_toml(path: str | Path) -> dict:
     """A --config file as a dict, or one line naming the file and what is wrong."""
     try:

@@ -29,7 +29,6 @@ from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT, DrystoneCas
 from .run import RIGID_NOTE, increment_logger, limit_equilibrium, run_dem, wall_result
 
 
-
 def band_corners(case: DrystoneCase) -> list[DrystoneCase]:
     """The corners of the missing-data box: geometry x gamma_m (18, 22) x alpha (0, 8.5)
     for the limestone walls (alpha is found for V5S)."""
@@ -199,18 +198,6 @@ def entry(r: dict) -> dict:
             "increment_m": r["section"]["height_m"] * r["increment_fraction"], "section": r["section"],
             "geometry": r["geometry"], "assumptions": r["assumptions"], "blocks": d["blocks"], "steps": d["steps"],
             "convergence": conv, "band": r["band"]}
-
-
-def rewrite_report(out_dir: Path) -> Path:
-    """drystone.md (and the derived fields of drystone.json: the back-fit band, the
-    timing) again from drystone.json, after editing drystone_discussion.md."""
-    from .report import back_fit_band, write_report
-    rep = json.loads((out_dir / "drystone.json").read_text())
-    for e in rep["walls"].values():
-        e["band_back_fit_m"] = back_fit_band(e)
-    path = write_report(rep, out_dir)
-    atomic_write(out_dir / "drystone.json", (json.dumps(to_plain(rep), indent=2) + "\n").encode())
-    return path
 
 
 def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], band: str = "dem",
