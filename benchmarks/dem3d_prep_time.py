@@ -1,7 +1,7 @@
 """Wall and CPU time of the Nadukuru & Michalowski specimen preparation, stage by stage
 (the goal: specimen preparation <= 15 min on this 2-core machine).
 
-Runs ``studies.nadukuru.model.prepare_specimen`` on the default recipe (rough wall, the
+Runs ``studies.nadukuru.specimen.prepare_specimen`` on the default recipe (rough wall, the
 particle count and seed given) and writes, per stage, the steps, wall time, CPU time
 (all threads: cpu / wall is the number of cores the stage kept busy) and the settle
 trace (steps, unbalanced-force ratio, kinetic energy [J]), with the numba thread count
@@ -23,7 +23,9 @@ import time
 
 import numba
 
-from studies.nadukuru import model as nk
+from studies.granular import SpecimenRecipe
+from studies.nadukuru.case import NadukuruCase
+from studies.nadukuru.specimen import prepare_specimen, specimen_key
 
 
 def main() -> dict:
@@ -32,16 +34,16 @@ def main() -> dict:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--out", default=None, help="JSON file (default: stdout)")
     args = ap.parse_args()
-    case = nk.NadukuruCase(specimen=dataclasses.replace(nk.SpecimenRecipe(), particles=args.particles),
+    case = NadukuruCase(specimen=dataclasses.replace(SpecimenRecipe(), particles=args.particles),
                            seed=args.seed)
     load_before = os.getloadavg()
     wall0, cpu0 = time.perf_counter(), time.process_time()
-    spec = nk.prepare_specimen(case)
+    spec = prepare_specimen(case)
     wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
     stages = {name: info for name, info in spec.stages.items() if isinstance(info, dict)}
     result = {
         "particles_requested": args.particles, "spheres": spec.n_spheres, "bodies": spec.n_bodies,
-        "seed": args.seed, "specimen_key": nk.specimen_key(case), "dt": spec.dt,
+        "seed": args.seed, "specimen_key": specimen_key(case), "dt": spec.dt,
         "numba_threads": numba.get_num_threads(), "threading_layer": _threading_layer(),
         "cpu_count": os.cpu_count(), "machine": platform.processor() or platform.machine(),
         "load_average_1min_before_after": [round(load_before[0], 2), round(os.getloadavg()[0], 2)],

@@ -75,7 +75,7 @@ def machine_memory() -> float | None:
 #: memory of a dem3d run besides its spheres: Python, numpy, numba's compiled kernels [bytes]
 BASE_MEMORY = 0.5e9
 #: dem3d memory a sphere: engine arrays, double-buffered neighbour pairs, a checkpoint copy
-#: (~4 KB, studies/nadukuru/model.py)
+#: (~4 KB, studies/granular.py)
 MEMORY_PER_SPHERE = 4096.0
 #: pymunk memory a packed disk (measured: 200k disks, 0.84 GB; studies/khosravi/case.py)
 MEMORY_PER_DISK = 4200.0

@@ -1,8 +1,10 @@
 """Nadukuru & Michalowski (2012): a 3.1 m wall, rained spheres and clumps, four modes
 of wall movement (3D DEM on dem3d).
 
-Modules: ``model`` (case, specimen preparation, wall movement, wall load, theories),
-``compare`` (one mode: run folder, figures, recording), ``validate`` (every mode and
+Modules: ``case`` (wall, movement, the case and the paper's values), ``specimen`` (the
+rained backfill and its cache), ``run`` (the wall movement and its load history),
+``load`` (the wall load of a frame, K by eq. 6), ``compare`` (one mode beside the
+theories: run folder, figures, recording), ``figures``, ``validate`` (every mode and
 wall at paper scale -> docs/validation/nadukuru.md). The study record is ``STUDY``.
 """
 
@@ -27,12 +29,12 @@ def _footprint(case):
 
 
 def _default_case():
-    from .model import NadukuruCase
+    from .case import NadukuruCase
     return NadukuruCase()
 
 
 def _wall_friction(word: str) -> float:
-    from .model import rough_or_smooth
+    from .case import rough_or_smooth
     return rough_or_smooth(word)
 
 

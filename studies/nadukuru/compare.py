@@ -13,10 +13,15 @@ from pathlib import Path
 
 import numpy as np
 
+from analytic.constants import G
+
 from ..measures import dem_profile
-from ..store import find_card_entry
+from ..report import theory_row
 from ..runner import Stopwatch, drop_checkpoint, finish, open_recording, open_run_folder
-from .model import G, MODE_TITLES, NadukuruCase, load_or_prepare, paper_values, run_modes, theory_rows
+from ..store import find_card_entry
+from .case import MODE_TITLES, NadukuruCase, paper_values
+from .run import run_modes
+from .specimen import load_or_prepare
 
 
 def phi_card(root: Path, case: NadukuruCase) -> tuple[float, str]:
@@ -221,3 +226,26 @@ def _log_theory(recorder, phi, case, gamma, H):
     soil = Soil(phi, gamma)
     recorder.log_theory_profiles([coulomb(soil, Wall(H, delta)), rankine(soil, Wall(H)), jaky(soil, Wall(H))],
                                  gamma, H)
+
+
+def theory_rows(mode: str, phi_deg: float, wall_friction: float, gamma: float, H: float,
+                phi_source: str) -> list[dict]:
+    """The theories beside the DEM, as the *normal* load coefficient on the wall
+    (comparable with eq. 6, which uses the normal force): Coulomb Ka cos(delta),
+    Rankine Ka, Jaky K0, and the DSM of the mode (Kh, resultant_height_over_H)."""
+    from analytic import Soil, Wall, coulomb, jaky, rankine
+    from analytic.slices import mode_case, solve
+
+    delta = math.degrees(math.atan(wall_friction))
+    soil, w = Soil(phi_deg, gamma), Wall(H, delta)
+    note = f"phi {phi_deg:.1f}, delta {delta:.1f} deg"
+    rows = [theory_row(name, prof, note) for name, prof in
+            (("coulomb", coulomb(soil, w)), ("rankine", rankine(soil, Wall(H))), ("jaky (at rest)", jaky(soil, Wall(H))))]
+    if mode in ("T", "RB", "RT"):
+        res = solve(mode_case(mode, phi_deg=phi_deg, delta_deg=delta, H=H, gamma=gamma))
+        rows.append(theory_row("dsm", res.profile, f"k_l, phi* shapes of eqs. 13/18/19 at phi {phi_deg:.1f}, "
+                               f"delta {delta:.1f}" + ("; curved surface: wallsim reconstruction" if mode == "RT" else ""),
+                               height_over_H=res.resultant_height_over_H))
+    else:
+        rows.append(theory_row("dsm", None, "no DSM preset for the mixed mode"))
+    return rows

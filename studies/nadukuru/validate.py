@@ -27,8 +27,12 @@ import numpy as np
 
 import reproducibility
 
-from .model import G, MODES, NadukuruCase, WallSetup, load_or_prepare, paper_values, run_modes, \
-    rough_or_smooth, theory_rows
+from analytic.constants import G
+
+from .case import MODES, NadukuruCase, WallSetup, paper_values, rough_or_smooth
+from .compare import theory_rows
+from .run import run_modes
+from .specimen import load_or_prepare
 from ..config import with_current_names
 from ..runfolder import package_versions, git_revision
 from ..runner import finish, finished_result, open_recording, open_run_folder, reusing_line

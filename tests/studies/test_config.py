@@ -5,7 +5,7 @@ import pytest
 
 from analytic.errors import InvalidParameter
 from studies.config import apply_sets
-from studies.nadukuru.model import NadukuruCase
+from studies.nadukuru.case import NadukuruCase
 
 
 def test_bare_and_dotted_keys():

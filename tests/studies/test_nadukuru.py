@@ -15,8 +15,11 @@ import numpy as np
 import pytest
 
 from analytic.errors import InvalidParameter
-from studies.nadukuru.model import (Movement, NadukuruCase, SpecimenRecipe, WallSetup, grain_scale, load_or_prepare,
-                                move_wall, run_modes, wall_load)
+from studies.granular import SpecimenRecipe
+from studies.nadukuru.case import Movement, NadukuruCase, WallSetup, grain_scale
+from studies.nadukuru.load import wall_load
+from studies.nadukuru.run import move_wall, run_modes
+from studies.nadukuru.specimen import load_or_prepare
 
 SMALL = NadukuruCase(specimen=SpecimenRecipe(particles=2400), seed=7)
 
