@@ -1,7 +1,7 @@
 """Wall and CPU time of the Nadukuru & Michalowski specimen preparation, stage by stage
 (the goal: specimen preparation <= 15 min on this 2-core machine).
 
-Runs ``studies.nadukuru.specimen.prepare_specimen`` on the default recipe (rough wall, the
+Runs ``studies.granular.specimen.prepare_specimen`` on the default recipe (rough wall, the
 particle count and seed given) and writes, per stage, the steps, wall time, CPU time
 (all threads: cpu / wall is the number of cores the stage kept busy) and the settle
 trace (steps, unbalanced-force ratio, kinetic energy [J]), with the numba thread count
@@ -25,7 +25,7 @@ import numba
 
 from studies.granular import SpecimenRecipe
 from studies.nadukuru.case import NadukuruCase
-from studies.nadukuru.specimen import prepare_specimen, specimen_key
+from studies.granular.specimen import prepare_specimen, specimen_key
 
 
 def main() -> dict:

@@ -1,7 +1,7 @@
 """Measurements on wall records, shared by the 2D and 3D studies: the thrust and its
 height from panel stresses, the at-rest coefficient of a depth range, and the
 displacement by which the thrust has settled. (3D panels also carry moments:
-``nadukuru.load.wall_load`` takes the height from forces and moments.)"""
+``granular.load.wall_load`` takes the height from forces and moments.)"""
 
 from __future__ import annotations
 

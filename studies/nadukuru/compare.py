@@ -19,9 +19,10 @@ from ..measures import dem_profile
 from ..report import theory_row
 from ..runner import Stopwatch, drop_checkpoint, finish, open_recording, open_run_folder
 from ..store import find_card_entry
-from .case import MODE_TITLES, NadukuruCase, paper_values
-from .run import run_modes
-from .specimen import load_or_prepare
+from ..granular.movement import run_modes
+from ..granular.specimen import load_or_prepare
+from ..granular.wall import MODE_TITLES
+from .case import NadukuruCase, paper_values
 
 
 def phi_card(root: Path, case: NadukuruCase) -> tuple[float, str]:

@@ -29,10 +29,11 @@ import reproducibility
 
 from analytic.constants import G
 
-from .case import MODES, NadukuruCase, WallSetup, paper_values, rough_or_smooth
+from ..granular.wall import MODES, WallSetup
+from .case import NadukuruCase, paper_values, rough_or_smooth
 from .compare import theory_rows
-from .run import run_modes
-from .specimen import load_or_prepare
+from ..granular.movement import run_modes
+from ..granular.specimen import load_or_prepare
 from ..config import with_current_names
 from ..runfolder import package_versions, git_revision
 from ..runner import finish, finished_result, open_recording, open_run_folder, reusing_line

@@ -16,10 +16,11 @@ import pytest
 
 from analytic.errors import InvalidParameter
 from studies.granular import SpecimenRecipe
-from studies.nadukuru.case import Movement, NadukuruCase, WallSetup, grain_scale
-from studies.nadukuru.load import wall_load
-from studies.nadukuru.run import move_wall, run_modes
-from studies.nadukuru.specimen import load_or_prepare
+from studies.granular.load import wall_load
+from studies.granular.movement import move_wall, run_modes
+from studies.granular.specimen import load_or_prepare
+from studies.granular.wall import Movement, WallSetup, grain_scale
+from studies.nadukuru.case import NadukuruCase
 
 SMALL = NadukuruCase(specimen=SpecimenRecipe(particles=2400), seed=7)
 

@@ -73,7 +73,7 @@ def test_dem3d_nadukuru_run_reads_back(tmp_path, monkeypatch):
     assert len(particles) == len(contacts) == len(walls) == len(frames) == result["vtk"]["frames"]["particles"] >= 2
     assert [t for t, _ in particles] == [f.time for f in frames] == sorted(t for t, _ in particles)
 
-    from studies.nadukuru.load import wall_load
+    from studies.granular.load import wall_load
     wall_ids = np.arange(case.wall.segments)          # the wall's panels come first (dem3d walls)
     for frame, (_, p), (_, c), (_, w) in zip(frames, particles, contacts, walls):
         pm, cm, wm = meshio.read(p), meshio.read(c), meshio.read(w)

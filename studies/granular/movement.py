@@ -1,7 +1,7 @@
-"""Nadukuru & Michalowski's wall movement (``move_wall``, ``run_modes``): translate or
+"""A wall moved away from its backfill (``move_wall``, ``run_modes``): translate or
 rotate the wall quasi-statically to Delta/H from the settled specimen, with the load
 history (K, resultant_height_over_H, segment stresses) and frames for the recording,
-resumable from its checkpoints bit for bit. K follows eq. 6: K = F_n / (0.5 rho (1 - n)
+resumable from its checkpoints bit for bit. K follows Nadukuru & Michalowski's eq. 6: K = F_n / (0.5 rho (1 - n)
 g H^2 w), F_n the normal force on the wall, n the measured porosity of the specimen (the
 paper used n = 0.36).
 """
@@ -21,11 +21,11 @@ import numpy as np
 import dem3d
 
 from ..config import with_current_names
-from ..granular import contact_law
+from .recipe import contact_law
 from ..measures import steady_displacement
 from ..store import atomic_write, load_npz, npz_bytes
 
-from .case import MODE_TITLES, Movement, NadukuruCase, WallSetup, movement_duration
+from .wall import MODE_TITLES, Movement, WallCase, WallSetup, movement_duration
 from .load import load_coefficient, wall_load
 from .specimen import Specimen, box_walls
 
@@ -63,7 +63,7 @@ class LoadSample:
     segment_stress: np.ndarray   # (segments,) Pa, bottom to top
 
 
-def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, progress=None,
+def move_wall(case: WallCase, specimen: Specimen, *, frame_every: int = 0, progress=None,
               resume: dict | None = None, checkpoint=None,
               checkpoint_every_s: float = 300.0,
               checkpoint_every_fraction: float = 0.1) -> Iterator[tuple[LoadSample, object | None]]:
@@ -111,7 +111,7 @@ def move_wall(case: NadukuruCase, specimen: Specimen, *, frame_every: int = 0, p
             last_checkpoint = _time.perf_counter()
 
 
-def _movement_simulation(case: NadukuruCase, specimen: Specimen, wall: WallSetup,
+def _movement_simulation(case: WallCase, specimen: Specimen, wall: WallSetup,
                          resume: dict | None) -> tuple[dem3d.Simulation, float]:
     """The simulation that moves the wall, from the settled specimen or from a checkpoint
     (``resume``), and t0 [s], the simulation time at which the movement started. Motions
@@ -131,7 +131,7 @@ def _movement_simulation(case: NadukuruCase, specimen: Specimen, wall: WallSetup
     return sim, t0
 
 
-def _averaged_sample(sim, hist_f, hist_m, ids, m: int, t0: float, case: NadukuruCase, specimen: Specimen,
+def _averaged_sample(sim, hist_f, hist_m, ids, m: int, t0: float, case: WallCase, specimen: Specimen,
                      wall: WallSetup) -> LoadSample:
     """The load sample of the last ``m`` steps: panel forces and moments averaged over
     them (``hist_f``, ``hist_m`` from ``sim.step(record_panels=True)``), Delta/H at the
@@ -162,7 +162,7 @@ def steady_disp_over_H(disp: np.ndarray, K: np.ndarray, window: float = 0.05) ->
     return steady_displacement(disp, K, 0.9, smooth=max(3, int(window * len(K))))
 
 
-def run_modes(case: NadukuruCase, specimen: Specimen, *, on_sample=None, on_frame=None,
+def run_modes(case: WallCase, specimen: Specimen, *, on_sample=None, on_frame=None,
               frame_every: int = 0, progress=None, checkpoint_path: Path | None = None,
               checkpoint_every_s: float = 300.0) -> dict:
     """Move the wall and collect the load history; returns arrays and the active-state

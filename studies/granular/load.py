@@ -1,7 +1,7 @@
-"""The load of Nadukuru & Michalowski's backfill on the wall, from a frame: the normal
+"""The load of a backfill on its wall, from a frame: the normal
 force, its height above the base (from the panel forces and moments), the downward
 shear and the stress on each segment (``wall_load``), and the load coefficient of
-eq. 6 (``load_coefficient``)."""
+Nadukuru & Michalowski's eq. 6 (``load_coefficient``)."""
 
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ import numpy as np
 
 from analytic.constants import G
 
-from ..granular import SpecimenRecipe
-from .case import WallSetup
+from .recipe import SpecimenRecipe
+from .wall import WallSetup
 
 
 @dataclass(frozen=True)

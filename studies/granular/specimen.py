@@ -1,4 +1,4 @@
-"""Nadukuru & Michalowski's backfill rained behind the wall (``prepare_specimen``):
+"""The backfill rained behind a wall (``prepare_specimen``; Nadukuru & Michalowski's procedure):
 generate bodies loosely above the box, rain them under gravity (optionally with a lower
 "deposition" friction, a standard way to densify), trim to the wall height, restore the
 particle friction, settle; report porosity, at-rest K, the resultant's height and the
@@ -22,11 +22,11 @@ from analytic.errors import InvalidParameter
 from dem3d import measure
 
 from ..config import with_current_names
-from ..granular import SpecimenRecipe, contact_law, time_step
+from .recipe import SpecimenRecipe, contact_law, time_step
 from ..store import Store, content_key
 from ..progress import step_with_progress
 
-from .case import GENERATION_FRACTIONS, OVERFILL, NadukuruCase, WallSetup, grain_scale
+from .wall import GENERATION_FRACTIONS, OVERFILL, WallCase, WallSetup, grain_scale
 from .load import wall_load
 
 
@@ -83,7 +83,7 @@ class Specimen:
 PREPARATION_VERSION = 4
 
 
-def specimen_key(case: NadukuruCase) -> str:
+def specimen_key(case: WallCase) -> str:
     """Hash of everything that shapes the settled specimen (not the movement)."""
     return content_key({"specimen": dataclasses.asdict(case.specimen),
                         # an unset optional field is left out, so adding one keeps older keys
@@ -91,7 +91,7 @@ def specimen_key(case: NadukuruCase) -> str:
                         "seed": case.seed, "procedure": PREPARATION_VERSION})
 
 
-def prepare_specimen(case: NadukuruCase, progress=None) -> Specimen:
+def prepare_specimen(case: WallCase, progress=None) -> Specimen:
     """Rain, trim to H and settle the backfill behind the fixed wall (module docstring).
     Stages A (rain and pack), B (trim and stiffen), C (load to g), then the at-rest
     measurement; each stage's steps, times and settle trace go to ``Specimen.stages``."""
@@ -281,7 +281,7 @@ def _bulk_density(sim, H, w, L) -> float:
     return sim.density * (1.0 - n)
 
 
-def load_or_prepare(case: NadukuruCase, cache_dir: Path, progress=None) -> tuple[Specimen, bool]:
+def load_or_prepare(case: WallCase, cache_dir: Path, progress=None) -> tuple[Specimen, bool]:
     """The settled specimen for (recipe, wall, seed): from ``cache_dir`` if it was made
     before (so every mode starts from the same state), else prepared and saved there."""
     store, key = Store(cache_dir), specimen_key(case)
