@@ -1,4 +1,4 @@
-"""Biaxial compaction only (dem2d/biaxial.py defaults, 4 kPa), then what the packing is
+"""Biaxial compaction only (studies/elements/biaxial.py defaults, 4 kPa), then what the packing is
 made of: disks outside the piston box, overlap area and mean overlap, interior solid
 fraction, coordination. Written to find out why the full-size specimen reports a solid
 fraction of ~0.91 (results: docs/validation/biaxial_compaction_check.json).
@@ -13,7 +13,7 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
-from dem2d.biaxial import BiaxialCase, BiaxialTest
+from studies.elements.biaxial import BiaxialCase, BiaxialTest
 from dem2d.measure import solid_fraction
 
 

@@ -1,5 +1,5 @@
 """Grain-shape probe for the case-B gravel (issue 24): peak and critical-state angles of
-the biaxial test at 35 kPa (``dem2d.gravel_biaxial``, the calibration's test at a reduced
+the biaxial test at 35 kPa (``studies.elements.gravel_biaxial``, the calibration's test at a reduced
 specimen) for each grain shape of ``dem2d.gravel`` (capsule, three-circle clump, rounded
 hexagon; all in the AR 2.5 envelope, widths 10-16 mm), at the local frictions given, on
 the seeds given; with steps per CPU second (the one-hour budget of a case-B wall).
@@ -23,7 +23,7 @@ import numpy as np
 import pymunk
 
 from dem2d.gravel import Gravel
-from dem2d.gravel_biaxial import GravelBiaxialCase
+from studies.elements.gravel_biaxial import GravelBiaxialCase
 from dem2d.params import Solver
 from studies.gravel.calibrate import GravelCalibration, biaxial_test
 from studies.runfolder import git_revision

@@ -15,16 +15,16 @@ Layout (docs/dem2d.md has the why):
 * ``measure``     energies, unbalanced force, panel stresses, 4-panel readings, fabric
 * ``sim``         Sim (space + grains + walls + clock), snapshot / restore
 * ``pluviation``  layered pluviation
-* ``biaxial``     biaxial test with a stress-controlled piston; band angle
 * ``blocks``      dry-stone walls of rigid polygon blocks (courses, staggered joints,
                   counter-slope), pair friction, hydrostatic water, loading to failure,
-                  sliding / toppling classifier, tilt tests
+                  sliding / toppling classifier
 * ``gravel``      elongated capsule grains (dry-stone case B backfill), placement at a
                   lowered friction, porosity, box reactions
-* ``interface``   constant-normal-load shear of gravel over a block face
+
+The element tests (biaxial, interface shear) run on this engine from
+``studies/elements/``; the dry-stone and tilt protocols from their studies.
 """
 
-from .biaxial import BiaxialCase, BiaxialResult, BiaxialTest
 from .blocks import BlockSolver, BlockWall, LoadingPlan, LoadingResult, Masonry, Mechanism, load_to_failure
 from .build import Grains, add_clumps, add_disks, add_polygons, friction_split, new_space
 from .frames import Frame, body_state, grain_contacts, make_frame
@@ -35,7 +35,7 @@ from .probes import PanelProbe
 from .sim import Sim, restore
 from .walls import Fixed, PanelWall, RotateAbout, Schedule, Translate, panel_wall
 
-__all__ = ["BiaxialCase", "BiaxialResult", "BiaxialTest", "BlockSolver", "BlockWall", "LoadingPlan",
+__all__ = ["BlockSolver", "BlockWall", "LoadingPlan",
            "LoadingResult", "Masonry", "Mechanism", "load_to_failure", "Grains", "add_clumps", "add_disks",
            "add_polygons", "friction_split", "new_space", "Frame", "body_state", "grain_contacts",
            "make_frame", "Grading", "Material", "Solver", "Pluviation", "pluviate", "PanelProbe",

@@ -20,7 +20,7 @@ from typing import Sequence
 
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param
-from dem2d.biaxial import MAX_CONFINING_PA, MAX_FRICTION, BiaxialCase, BiaxialTest
+from studies.elements.biaxial import MAX_CONFINING_PA, MAX_FRICTION, BiaxialCase, BiaxialTest
 from dem2d.params import Solver
 from studies.progress import progress
 from studies.runfolder import RunFolder

@@ -6,14 +6,14 @@ and grain-block 25 deg (global 37.7 deg in a constant-normal-load shear test). T
 not carry over to rigid capsules, so both are recalibrated against the same
 *global* targets:
 
-1. biaxial series (``dem2d.gravel_biaxial``): peak and critical-state angle against the
+1. biaxial series (``studies.elements.gravel_biaxial``): peak and critical-state angle against the
    local grain friction; ours is the local value nearest to *both* targets, peak 37.7 deg
    and critical state 32 deg (Colas's angle of repose, S-OET's stand-in): the least
    squares of the two misfits [deg] on the seed means, linear between tested values
    (``choose_both``). The peak alone chose 72.8 deg for capsules, whose critical state
    was then 25 deg and could not hold the 32-deg re-cut slope of case B
    (gravel_calibration_discussion.md). The peak-only value is reported beside;
-2. interface series (``dem2d.interface``, the grains at our grain friction): global
+2. interface series (``studies.elements.interface``, the grains at our grain friction): global
    interface angle against the local fill-block friction; ours is the local value whose
    global angle is 37.7 deg. On a flat face tan(global) <= mu_local (Coulomb), so the
    local value cannot be below the target.
@@ -36,8 +36,8 @@ from analytic.errors import InvalidParameter
 from analytic.schema import MAX_SEED, check_fields, param
 from dem2d.blocks import BlockSolver
 from dem2d.gravel import Gravel
-from dem2d.gravel_biaxial import GravelBiaxialCase
-from dem2d.interface import ShearCase
+from studies.elements.gravel_biaxial import GravelBiaxialCase
+from studies.elements.interface import ShearCase
 
 TESTS = ("both", "biaxial", "interface")
 #: S-OET's local values (PFC2D soft clumps) and the global targets (Colas; S-OET 4.1)
@@ -126,7 +126,7 @@ def interpolate(xs, ys, target: float) -> float:
 def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=None) -> dict:
     """One biaxial test at local grain friction ``friction_deg``: the summary, porosity
     (whole specimen and inner window) and the curves."""
-    from dem2d.gravel_biaxial import GravelBiaxialTest
+    from studies.elements.gravel_biaxial import GravelBiaxialTest
 
     case = dataclasses.replace(plan.biaxial, seed=seed,
                                gravel=dataclasses.replace(plan.gravel, friction_deg=friction_deg))
@@ -151,7 +151,7 @@ def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=N
 def interface_test(plan: GravelCalibration, grain_deg: float, local_deg: float, seed: int) -> dict:
     """One interface shear test: the global angle (forces averaged over the second half of
     the displacement: the angle is still rising at 6 mm in the full-size box) and the readings."""
-    from dem2d.interface import InterfaceShear
+    from studies.elements.interface import InterfaceShear
 
     g = dataclasses.replace(plan.gravel, friction_deg=grain_deg, interface_friction_deg=local_deg)
     case = dataclasses.replace(plan.shear, gravel=g, seed=seed)

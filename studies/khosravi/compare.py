@@ -26,7 +26,7 @@ import numpy as np
 from analytic import Soil, Wall, jaky, rankine
 from analytic.arching import handy, khosravi, paik_salgado
 from analytic.classical import jaky_coefficient, rankine_coefficient
-from dem2d.biaxial import BiaxialCase
+from studies.elements.biaxial import BiaxialCase
 from studies.khosravi.run import KhosraviRun
 from studies.measures import dem_profile, k_upper_half, normal_thrust, resultant_height_over_H, steady_displacement
 from studies.khosravi.case import KhosraviCase

@@ -106,7 +106,8 @@ def triaxial_run(base: NadukuruCase, root: Path, progress=None, log=print) -> di
     (``calibrate_triaxial``, which also writes it where ``compare`` finds it), as the run
     folder ``<root>/nadukuru/validate-triaxial-<key>`` keeps it in result.json: read when
     that holds a finished test, else run (a folder without result.json removed first)."""
-    from ..triaxial.lab import TriaxialSetup, calibrate_triaxial
+    from ..elements.triaxial import TriaxialSetup
+    from ..triaxial.lab import calibrate_triaxial
     setup = TriaxialSetup()
     what = {"specimen": base.specimen, "seed": base.seed, "triaxial": setup, "particles": TRIAXIAL_PARTICLES}
     folder = Path(root) / "nadukuru" / f"validate-triaxial-{content_key(what)}"

@@ -124,7 +124,7 @@ def triaxial(case: SeismicCase, *, confining: float = 70e3, particles: int = 200
     """Peak and end phi [deg] of the deposit's grains at the case's contact law (module
     docstring). ``strain_rate`` [1/s]: 1/s keeps the inertial number
     I = rate d sqrt(rho / p) near 1e-3 at 70 kPa with the coarse grains (quasi-static)."""
-    from ..triaxial.lab import ALL_BUT_FLOOR, ServoVelocity, TriaxialResult, platen_walls, ServoCell
+    from ..elements.triaxial import ALL_BUT_FLOOR, ServoCell, ServoVelocity, TriaxialResult, platen_walls
     x, r, side0 = deposit_cube(case, particles, seed)
     spec = dem3d.Specimen(x, r, -np.ones(len(r), np.int64), case.grain_density)
     porosity_cut = 1.0 - float(np.sum(4.0 / 3.0 * np.pi * r ** 3)) / side0 ** 3
@@ -175,7 +175,7 @@ def _shear(cell, servo, target, dims0, v_axial: float, n_steps: int, chunk: int)
     """The top platen down at ``v_axial`` [m/s] for ``n_steps``, the lateral platens on
     the servo at the confining stress: per chunk axial and volumetric strain
     (compression +), sigma_1, sigma_3 [Pa]."""
-    from ..triaxial.lab import LATERAL
+    from ..elements.triaxial import LATERAL
     servo[5].value = tuple(v_axial * cell.normal[5])
     eps_a, eps_v, s1, s3 = [], [], [], []
     done = 0

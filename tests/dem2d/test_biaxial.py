@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from dem2d.biaxial import BiaxialCase, BiaxialTest, shear_band_angle
+from studies.elements.biaxial import BiaxialCase, BiaxialTest, shear_band_angle
 
 
 def _run(mu: float):

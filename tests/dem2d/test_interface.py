@@ -1,4 +1,4 @@
-"""Constant-normal-load interface shear test (dem2d.interface, issue 24), reduced size
+"""Constant-normal-load interface shear test (studies.elements.interface), reduced size
 (0.30 x 0.15 m, ~96 grains, 0.02 m/s), against statics and Coulomb:
 
 * the face carries the applied normal load: N = sigma_n L + weight of grains and lid
@@ -13,7 +13,7 @@ import pytest
 
 from analytic.errors import InvalidParameter
 from dem2d.gravel import Gravel
-from dem2d.interface import InterfaceShear, ShearCase
+from studies.elements.interface import InterfaceShear, ShearCase
 
 
 def _case(phi_i):

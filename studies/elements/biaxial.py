@@ -38,12 +38,12 @@ from analytic.errors import InvalidParameter
 from analytic.inputs import MAX_PRESSURE_KPA
 from analytic.schema import check_fields, param, seed_param
 
-from .build import Grains, add_disks, friction_split, new_space
-from .grading import Grading
-from .params import Material, Solver
-from .pluviation import cloud
-from .sim import Sim
-from .walls import PANEL_TYPE_BASE, panel_wall
+from dem2d.build import Grains, add_disks, friction_split, new_space
+from dem2d.grading import Grading
+from dem2d.params import Material, Solver
+from dem2d.pluviation import cloud
+from dem2d.sim import Sim
+from dem2d.walls import PANEL_TYPE_BASE, panel_wall
 
 RHO_WATER = 1000.0
 
@@ -215,7 +215,7 @@ class BiaxialTest:
         self.sim.hooks.append(self._push_piston)
 
     # ------------------------------------------------------------------ grains (disks)
-    # A grain shape other than disks overrides these five (``dem2d.gravel_biaxial``).
+    # A grain shape other than disks overrides these five (``studies.elements.gravel_biaxial``).
     def _grain_count(self) -> int:
         """Grains that fill width x height at ``target_fraction``."""
         c = self.case
@@ -385,7 +385,7 @@ def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialC
     band = float("nan")
     if len(marks) >= 5:
         # the post-peak part of the test: from 40 % of the final strain to the end
-        (e_a, xa), (e_b, xb) = marks[len(marks) * 2 // 5], marks[-1]
+        (_, xa), (_, xb) = marks[len(marks) * 2 // 5], marks[-1]
         band = shear_band_angle(xa, xb, cell=3 * case.grading.d50)
     return BiaxialResult(phi_peak_deg=float(phi[ipk]), eps_peak=float(eps[ipk]), phi_cs_deg=phi_cs,
                          eps_cs=eps_cs, band_angle_deg=band,

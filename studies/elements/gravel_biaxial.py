@@ -1,10 +1,10 @@
-"""Biaxial test of the capsule gravel: ``dem2d.biaxial`` with capsule grains.
+"""Biaxial test of the capsule gravel: ``studies.elements.biaxial`` with capsule grains.
 
 S-OET (docs/reference/drystone-walls.md 3.1) calibrated the gravel's local friction
 so that the DEM reproduces Colas's triaxial tests at the representative mean stress of
 35 kPa: peak 37.7 deg, dilatancy 8 deg, critical state about 32 deg (the angle of
 repose). This module runs the same biaxial test as the Khosravi calibration
-(``dem2d.biaxial``: frictionless rigid walls, a stress-controlled lateral piston, a
+(``studies.elements.biaxial``: frictionless rigid walls, a stress-controlled lateral piston, a
 strain-controlled top platen, no gravity) on ``dem2d.gravel`` capsules:
 
 * grains: a sparse cloud of randomly oriented capsules (``gravel.cloud``, one grain per
@@ -34,10 +34,10 @@ import pymunk
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param, seed_param
 
-from .biaxial import BiaxialTest
-from .build import Grains, new_space
-from .gravel import Gravel, add_grains, cloud, grain_area, porosity, register_grains
-from .params import Material, Solver
+from studies.elements.biaxial import BiaxialTest
+from dem2d.build import Grains, new_space
+from dem2d.gravel import Gravel, add_grains, cloud, grain_area, porosity, register_grains
+from dem2d.params import Material, Solver
 
 
 @dataclass(frozen=True)
@@ -87,7 +87,7 @@ class GravelBiaxialCase:
                 raise InvalidParameter(name, getattr(self, name), f"({least:g}, 10] m",
                                        "at least 5 lengths of the largest grain")
 
-    # what dem2d.biaxial reads
+    # what studies.elements.biaxial reads
     @property
     def friction(self) -> float:
         return math.tan(math.radians(self.gravel.friction_deg))

@@ -48,8 +48,8 @@ from analytic.schema import check_fields, param, seed_param
 
 from analytic.constants import G
 
-from .blocks import BLOCK_TYPE, BlockSolver, pair_friction
-from .gravel import FILL_TYPE, Gravel, add_grains, cloud, grain_area
+from dem2d.blocks import BLOCK_TYPE, BlockSolver, pair_friction
+from dem2d.gravel import FILL_TYPE, Gravel, add_grains, cloud, grain_area
 
 WALL_TYPE = 23
 
