@@ -1,8 +1,10 @@
 """Nadukuru & Michalowski (2012), Fig. 1: arching in a prismatic heap whose base
 subsides at the centre (3D DEM on dem3d).
 
-Modules: ``model`` (case, rain, slump, subsidence, base stress), ``compare`` (one run:
-run folder, figures, recording), ``validate`` (3 seeds -> docs/validation/heap.md).
+Modules: ``case`` (the case, its assumptions, the box and base), ``run`` (rain, slump,
+subsidence, checkpoints), ``measures`` (shape, base stress, centre over peak),
+``compare`` (one run: run folder, figures, recording), ``validate`` (3 seeds ->
+docs/validation/heap.md).
 The study record is ``STUDY``.
 """
 
@@ -21,7 +23,7 @@ def _footprint(case):
 
 
 def _default_case():
-    from .model import HeapCase
+    from .case import HeapCase
     return HeapCase()
 
 

@@ -17,7 +17,11 @@ import numpy as np
 
 from ..runner import Stopwatch, drop_checkpoint, finish, open_recording, open_run_folder
 from ..store import atomic_write, load_npz, npz_bytes
-from .model import G, HeapCase, HeapRun, bin_centres, centre_over_peak, run_heap
+from analytic.constants import G
+
+from .case import HeapCase, bin_centres
+from .measures import centre_over_peak
+from .run import HeapRun, run_heap
 
 #: the run's checkpoint in the run folder (dropped once the run has its result)
 CHECKPOINT = "checkpoints/heap.npz"
@@ -168,7 +172,7 @@ def _result(case: HeapCase, run: HeapRun, norm: float, folder) -> dict:
     }
 
 
-#: what the paper leaves out and this study assumes (studies/heap/model.py docstring)
+#: what the paper leaves out and this study assumes (studies/heap/case.py docstring)
 ASSUMPTIONS = ["grain sizes 2.3-3.7 cm read as radii (diameters 4.6-7.36 cm, the wall study's)",
                "particles = spheres incl. clump members (12,000; 15,000 if the paper counted bodies)",
                "periodic along the 0.6 m width (an infinitely long prism)",

@@ -22,7 +22,7 @@ from ..runfolder import git_revision, package_versions
 from ..runner import finished_result, named_run, reusing_line
 from ..store import content_key
 from .compare import ASSUMPTIONS, compare_heap, slope_text
-from .model import HeapCase
+from .case import HeapCase
 
 KEYS = ("centre_over_peak_before", "centre_over_peak_after", "slope_deg", "heap_height_m", "porosity",
         "base_load_over_heap_weight", "subsidence_over_H")

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from analytic.errors import InvalidParameter
-from studies.heap.model import HeapCase, centre_over_peak, run_heap
+from studies.heap.case import HeapCase
+from studies.heap.measures import centre_over_peak
+from studies.heap.run import run_heap
 
 SMALL = dict(particles=1000, base_length=1.2, width=0.26, bins=8, kn=8.3e6 / 25, ks=3.32e6 / 25,
              slump_time=1.5, average_steps=1000, hold_time=0.05)
@@ -43,7 +45,9 @@ def test_base_carries_the_weight_of_the_settled_fill():
     grains keep rolling down its flanks (rms 17-22 mm/s after the 1 s arrest), and the
     local damping on them then carries a share of the weight (1-2 %) that depends on the
     trajectory."""
-    from studies.heap.model import StageLog, averaged_base_stress, base_ids, heap_weight, rain
+    from studies.heap.case import base_ids
+    from studies.heap.measures import heap_weight
+    from studies.heap.run import StageLog, averaged_base_stress, rain
 
     case = HeapCase(**SMALL)
     sim = rain(case, StageLog())

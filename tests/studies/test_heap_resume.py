@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import cli
-from studies.heap import model as M
+from studies.heap import run as M
 from studies.heap.compare import CHECKPOINT, compare_heap
 from studies.runner import named_run, recorded_options
 from studies.store import load_npz, npz_bytes

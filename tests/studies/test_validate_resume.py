@@ -12,7 +12,7 @@ import re
 import pytest
 
 import cli
-from studies.heap.model import HeapCase
+from studies.heap.case import HeapCase
 from tests.studies.test_heap import SMALL
 
 #: what differs between any two commands: times, run folders, versions, dates
