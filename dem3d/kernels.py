@@ -457,6 +457,79 @@ def rolling_torques(sph, prs, prm, dt, pax, plen, mtab):
         t[i, 2] += stz
 
 
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _panel_contact(sph, wps, pan, prm, mtab, dt, need_m, i, k, w_act, w_ut, w_out):
+    """Sphere i against the panel of its wall candidate k, by the same contact law as a
+    pair (the panel's mass and radius infinite; the pair's parameters with materials):
+    (touching, force on the sphere (3) [N], its torque about the sphere centre (3)
+    [N m]). Updates the candidate's tangential history and records its force and contact
+    point in ``w_out``; a candidate that stopped touching forgets its history."""
+    x = sph.x
+    v = sph.v
+    w = sph.w
+    ri = sph.r[i]
+    p = wps.panel[k]
+    ok, qx, qy, qz = panel_closest_point(x[i, 0], x[i, 1], x[i, 2], pan, p)
+    dx = 0.0
+    dy = 0.0
+    dz = 0.0
+    d2 = 0.0
+    if ok:
+        dx = qx - x[i, 0]
+        dy = qy - x[i, 1]
+        dz = qz - x[i, 2]
+        d2 = dx * dx + dy * dy + dz * dz
+    if (not ok) or d2 >= ri * ri or d2 == 0.0:
+        if w_act[k]:
+            w_act[k] = 0
+            w_ut[k, 0] = 0.0
+            w_ut[k, 1] = 0.0
+            w_ut[k, 2] = 0.0
+            for c in range(6):
+                w_out[k, c] = 0.0
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    d = math.sqrt(d2)
+    nx = dx / d            # from the sphere towards the panel
+    ny = dy / d
+    nz = dz / d
+    delta = ri - d
+    a = ri - 0.5 * delta
+    cx = x[i, 0] + a * nx  # contact point
+    cy = x[i, 1] + a * ny
+    cz = x[i, 2] + a * nz
+    ox = cx - pan.centre[p, 0]
+    oy = cy - pan.centre[p, 1]
+    oz = cz - pan.centre[p, 2]
+    pvx = pan.vel[p, 0] + pan.omega[p, 1] * oz - pan.omega[p, 2] * oy
+    pvy = pan.vel[p, 1] + pan.omega[p, 2] * ox - pan.omega[p, 0] * oz
+    pvz = pan.vel[p, 2] + pan.omega[p, 0] * oy - pan.omega[p, 1] * ox
+    vrx = v[i, 0] + a * (w[i, 1] * nz - w[i, 2] * ny) - pvx
+    vry = v[i, 1] + a * (w[i, 2] * nx - w[i, 0] * nz) - pvy
+    vrz = v[i, 2] + a * (w[i, 0] * ny - w[i, 1] * nx) - pvz
+    im = sph.inv_m[i]
+    m_eff = 1.0 / im if (im > 0.0 and need_m) else 0.0
+    if mtab is None:
+        cfx, cfy, cfz, fn, ux, uy, uz = contact_law(prm, pan.mu[p], delta, nx, ny, nz, vrx, vry, vrz,
+                                                    m_eff, ri, w_ut[k, 0], w_ut[k, 1],
+                                                    w_ut[k, 2], dt)
+    else:
+        pp = pair_params(mtab, sph.mat[i], pan.mat[p])
+        cfx, cfy, cfz, fn, ux, uy, uz = contact_law(pp, pp.mu, delta, nx, ny, nz, vrx, vry, vrz,
+                                                    m_eff, ri, w_ut[k, 0], w_ut[k, 1],
+                                                    w_ut[k, 2], dt)
+    w_ut[k, 0] = ux
+    w_ut[k, 1] = uy
+    w_ut[k, 2] = uz
+    w_out[k, 0] = cfx
+    w_out[k, 1] = cfy
+    w_out[k, 2] = cfz
+    w_out[k, 3] = cx
+    w_out[k, 4] = cy
+    w_out[k, 5] = cz
+    w_act[k] = 1
+    return True, cfx, cfy, cfz, a * (ny * cfz - nz * cfy), a * (nz * cfx - nx * cfz), a * (nx * cfy - ny * cfx)
+
+
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
 def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_limit2, integrate,
                     mtab, has_fext, bnd):
@@ -475,7 +548,6 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
     x = sph.x
     v = sph.v
     w = sph.w
-    r = sph.r
     f = sph.f
     t = sph.t
     pf = prs.pf
@@ -492,7 +564,6 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
     n_bad = 0
     n_fast = 0
     for i in prange(x.shape[0]):
-        ri = r[i]
         fx = f[i, 0]     # pairs listed under i, summed by pass 1
         fy = f[i, 1]
         fz = f[i, 2]
@@ -520,71 +591,15 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
                 tz += bnd.out[b, o + 5]
         # wall panels: the same law, wall mass and radius infinite
         for k in range(wps.start[i], wps.start[i + 1]):
-            p = wps.panel[k]
-            ok, qx, qy, qz = panel_closest_point(x[i, 0], x[i, 1], x[i, 2], pan, p)
-            dx = 0.0
-            dy = 0.0
-            dz = 0.0
-            d2 = 0.0
-            if ok:
-                dx = qx - x[i, 0]
-                dy = qy - x[i, 1]
-                dz = qz - x[i, 2]
-                d2 = dx * dx + dy * dy + dz * dz
-            if (not ok) or d2 >= ri * ri or d2 == 0.0:
-                if w_act[k]:
-                    w_act[k] = 0
-                    w_ut[k, 0] = 0.0
-                    w_ut[k, 1] = 0.0
-                    w_ut[k, 2] = 0.0
-                    for c in range(6):
-                        w_out[k, c] = 0.0
-                continue
-            d = math.sqrt(d2)
-            nx = dx / d            # from the sphere towards the panel
-            ny = dy / d
-            nz = dz / d
-            delta = ri - d
-            a = ri - 0.5 * delta
-            cx = x[i, 0] + a * nx  # contact point
-            cy = x[i, 1] + a * ny
-            cz = x[i, 2] + a * nz
-            ox = cx - pan.centre[p, 0]
-            oy = cy - pan.centre[p, 1]
-            oz = cz - pan.centre[p, 2]
-            pvx = pan.vel[p, 0] + pan.omega[p, 1] * oz - pan.omega[p, 2] * oy
-            pvy = pan.vel[p, 1] + pan.omega[p, 2] * ox - pan.omega[p, 0] * oz
-            pvz = pan.vel[p, 2] + pan.omega[p, 0] * oy - pan.omega[p, 1] * ox
-            vrx = v[i, 0] + a * (w[i, 1] * nz - w[i, 2] * ny) - pvx
-            vry = v[i, 1] + a * (w[i, 2] * nx - w[i, 0] * nz) - pvy
-            vrz = v[i, 2] + a * (w[i, 0] * ny - w[i, 1] * nx) - pvz
-            im = inv_m[i]
-            m_eff = 1.0 / im if (im > 0.0 and need_m) else 0.0
-            if mtab is None:
-                cfx, cfy, cfz, fn, ux, uy, uz = contact_law(prm, pan.mu[p], delta, nx, ny, nz, vrx, vry, vrz,
-                                                            m_eff, ri, w_ut[k, 0], w_ut[k, 1],
-                                                            w_ut[k, 2], dt)
-            else:
-                pp = pair_params(mtab, sph.mat[i], pan.mat[p])
-                cfx, cfy, cfz, fn, ux, uy, uz = contact_law(pp, pp.mu, delta, nx, ny, nz, vrx, vry, vrz,
-                                                            m_eff, ri, w_ut[k, 0], w_ut[k, 1],
-                                                            w_ut[k, 2], dt)
-            w_ut[k, 0] = ux
-            w_ut[k, 1] = uy
-            w_ut[k, 2] = uz
-            fx += cfx
-            fy += cfy
-            fz += cfz
-            tx += a * (ny * cfz - nz * cfy)
-            ty += a * (nz * cfx - nx * cfz)
-            tz += a * (nx * cfy - ny * cfx)
-            w_out[k, 0] = cfx
-            w_out[k, 1] = cfy
-            w_out[k, 2] = cfz
-            w_out[k, 3] = cx
-            w_out[k, 4] = cy
-            w_out[k, 5] = cz
-            w_act[k] = 1
+            touching, cfx, cfy, cfz, ctx, cty, ctz = _panel_contact(sph, wps, pan, prm, mtab, dt, need_m, i, k,
+                                                                    w_act, w_ut, w_out)
+            if touching:
+                fx += cfx
+                fy += cfy
+                fz += cfz
+                tx += ctx
+                ty += cty
+                tz += ctz
         if has_fext:
             fx += sph.f_ext[i, 0]
             fy += sph.f_ext[i, 1]
