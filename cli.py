@@ -641,6 +641,8 @@ def _add_bench(sub):
     d.add_argument("--liggghts-ranks", type=int, choices=[1, 2], default=None,
                    help="MPI processes for LIGGGHTS (default: as many as --threads, core for core)")
     d.add_argument("--no-liggghts", action="store_true", help="time dem3d only")
+    d.add_argument("--pairs", type=_count("pairs"), default=3,
+                   help="interleaved pairs, dem3d then LIGGGHTS each (3): medians and min-max")
     d.add_argument("--scaling", action="store_true",
                    help="also time 10k, 30k and 100k spheres (the 10k packing tiled) for --steps/10 steps")
     d.add_argument("--json", action="store_true", help="machine-readable output")
@@ -659,20 +661,30 @@ def _count(name: str):
 def _cmd_bench_dem3d(args) -> int:
     from studies.bench import bench_dem3d, scaling
 
-    result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts, ranks=args.liggghts_ranks)
+    result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts, ranks=args.liggghts_ranks,
+                         pairs=args.pairs)
     rows = scaling(max(1, args.steps // 10), args.threads) if args.scaling else None
     if args.json:
         if rows is not None:
             result["scaling"] = rows
         print(json.dumps(result, indent=2))
         return 0
-    ours, theirs = result["wallsim_particle_steps_per_s"], result["liggghts_particle_steps_per_s"]
-    print(f"dem3d benchmark: {result['n']} spheres x {result['steps']} steps, dem3d on {result['threads']} thread(s)")
-    print(f"  wallsim  {ours:10.3e} particle-steps/s  ({result['wallsim_seconds']:.2f} s)")
-    if theirs is not None:
-        print(f"  LIGGGHTS {theirs:10.3e} particle-steps/s  ({result['liggghts_seconds']:.2f} s, "
-              f"{result['liggghts_ranks']} MPI process{'es' if result['liggghts_ranks'] > 1 else ''})")
-        print(f"  ratio    {result['ratio']:.2f}")
+    spread = result["spread"]
+    print(f"dem3d benchmark: {result['n']} spheres x {result['steps']} steps, dem3d on {result['threads']} thread(s), "
+          f"{result['pairs']} interleaved run(s) each; median (min-max)")
+
+    def line(name: str, key: str, cpu: str, extra: str = "") -> None:
+        s, c = spread[key], spread[cpu]
+        print(f"  {name:8s} {s['median']:10.3e} particle-steps/s ({s['min']:.3e}-{s['max']:.3e}); "
+              f"CPU {c['median']:.2f} s ({c['min']:.2f}-{c['max']:.2f}){extra}")
+
+    line("wallsim", "wallsim_particle_steps_per_s", "wallsim_cpu_seconds", " in the stepping loop")
+    if result["liggghts_particle_steps_per_s"] is not None:
+        ranks = result["liggghts_ranks"]
+        line("LIGGGHTS", "liggghts_particle_steps_per_s", "liggghts_cpu_seconds",
+             f" for the process, set-up included ({ranks} MPI process{'es' if ranks > 1 else ''})")
+        r = spread["ratio"]
+        print(f"  ratio    {r['median']:.2f} ({r['min']:.2f}-{r['max']:.2f}), pair by pair")
         w, lg = result["check"]["wallsim"], result["check"]["liggghts"]
         print(f"  check: kinetic energy {w['kinetic_energy_J']:.4g} vs {lg['kinetic_energy_J']:.4g} J, "
               f"rotational {w['rotational_energy_J']:.4g} vs {lg['rotational_energy_J']:.4g} J, "

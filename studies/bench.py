@@ -42,7 +42,9 @@ class EngineRun(NamedTuple):
     """One timed run: wall seconds of the stepping loop, particle-steps per second, and the
     state after it for the physics cross-check (translational and rotational kinetic
     energy [J], sphere-sphere contacts counted per sphere, 2 x touching pairs, as
-    LIGGGHTS' compute contact/atom summed over atoms)."""
+    LIGGGHTS' compute contact/atom summed over atoms); ``cpu_seconds``: CPU time of the
+    stepping loop, every thread (wallsim), or of the whole LIGGGHTS process tree, every
+    rank, its set-up included."""
 
     n: int
     steps: int
@@ -51,6 +53,7 @@ class EngineRun(NamedTuple):
     kinetic_energy: float
     rotational_energy: float
     contacts: int
+    cpu_seconds: float | None = None
 
 
 def read_packing(n: int, copies_y: int = 1) -> tuple[np.ndarray, np.ndarray]:
@@ -85,7 +88,7 @@ def build_problem(n: int, copies_y: int = 1):
                       skin=SKIN)
 
 
-def _summary(sim, n: int, steps: int, seconds: float) -> EngineRun:
+def _summary(sim, n: int, steps: int, seconds: float, cpu_seconds: float | None = None) -> EngineRun:
     from dem3d.measure import kinetic_energy
 
     sph = sim.spheres
@@ -93,7 +96,7 @@ def _summary(sim, n: int, steps: int, seconds: float) -> EngineRun:
     ke = 0.5 * float(np.sum(m * np.sum(sph.v ** 2, axis=1)))
     total = kinetic_energy(sim)
     pairs = int(np.count_nonzero(sim.pairs.active[:sim.pairs.start[-1]]))
-    return EngineRun(n, steps, seconds, n * steps / seconds, ke, total - ke, 2 * pairs)
+    return EngineRun(n, steps, seconds, n * steps / seconds, ke, total - ke, 2 * pairs, cpu_seconds)
 
 
 def time_wallsim(n: int, steps: int, threads: int, copies_y: int = 1) -> EngineRun:
@@ -106,10 +109,10 @@ def time_wallsim(n: int, steps: int, threads: int, copies_y: int = 1) -> EngineR
     warm = build_problem(10_000)          # compiles (or loads from the cache) every kernel
     warm.step(3)
     sim = build_problem(n, copies_y)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     sim.step(steps)
-    seconds = time.perf_counter() - start
-    return _summary(sim, n * copies_y, steps, seconds)
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+    return _summary(sim, n * copies_y, steps, seconds, cpu)
 
 
 _LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms")
@@ -141,7 +144,9 @@ def run_liggghts(n: int, steps: int, executable: str = LIGGGHTS, ranks: int = 1)
         cmd = [*launch, exe, "-in", "bench.in", "-var", "MODEL", "model.in", "-var", "DATA", f"settled_{n}.data",
                "-var", "DT", f"{DT:g}", "-var", "NRUN", str(steps), "-var", "SKIN", f"{SKIN:g}",
                "-log", "none", "-echo", "none"]
+        before = _children_cpu()
         out = subprocess.run(cmd, cwd=tmp, capture_output=True, text=True, check=True).stdout
+        cpu = _children_cpu() - before
     loop = _LOOP.search(out)
     if loop is None:
         raise RuntimeError("LIGGGHTS printed no 'Loop time' line: " + out[-300:].replace("\n", " | "))
@@ -150,23 +155,56 @@ def run_liggghts(n: int, steps: int, executable: str = LIGGGHTS, ranks: int = 1)
               if line.split()[:1] == [str(steps)] and len(line.split()) == 6]
     step, atoms, ke, rke, contacts, _ = thermo[-1]
     return EngineRun(int(atoms), steps, seconds, int(atoms) * steps / seconds, float(ke), float(rke),
-                     int(float(contacts)))
+                     int(float(contacts)), cpu)
+
+
+def _children_cpu() -> float:
+    """User + system CPU seconds of the finished child processes so far."""
+    import resource
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts: bool = True,
-                ranks: int | None = None) -> dict:
-    """Both engines on the same problem, core for core: LIGGGHTS on ``ranks`` MPI processes
-    (default: as many as dem3d's ``threads``). The dict has the keys the CLI's --json
-    prints (n, steps, threads, liggghts_ranks, wallsim_particle_steps_per_s,
-    liggghts_particle_steps_per_s, ratio) plus the physics cross-check."""
+                ranks: int | None = None, pairs: int = 3, *, engines=None) -> dict:
+    """Both engines on the same problem, core for core (LIGGGHTS on ``ranks`` MPI
+    processes, default as many as dem3d's ``threads``), as ``pairs`` interleaved pairs
+    (wallsim, LIGGGHTS, wallsim, LIGGGHTS, ...): a shared machine's speed drifts between
+    runs by tens of per cent, so only figures taken side by side compare. The dict has
+    the medians the CLI's --json prints (wallsim_particle_steps_per_s,
+    liggghts_particle_steps_per_s, ratio: the median of the pairs' ratios) with their
+    min-max, every pair, CPU seconds, and the physics cross-check of the last pair.
+    ``engines``: (wallsim runner, LIGGGHTS runner) to time, for tests."""
     ranks = threads if ranks is None else ranks
-    ours = time_wallsim(n, steps, threads)
-    theirs = run_liggghts(n, steps, ranks=ranks) if liggghts else None
-    result = {
-        "n": n, "steps": steps, "threads": threads, "liggghts_ranks": ranks if liggghts else None,
-        "wallsim_particle_steps_per_s": ours.particle_steps_per_s,
-        "liggghts_particle_steps_per_s": theirs.particle_steps_per_s if theirs else None,
-        "ratio": ours.particle_steps_per_s / theirs.particle_steps_per_s if theirs else None,
+    time_ours, time_theirs = engines or (time_wallsim, run_liggghts)
+    runs = []
+    for _ in range(pairs):
+        ours = time_ours(n, steps, threads)
+        theirs = time_theirs(n, steps, ranks=ranks) if liggghts else None
+        runs.append((ours, theirs))
+    ours, theirs = runs[-1]
+
+    def spread(values) -> dict:
+        v = [x for x in values if x is not None]
+        return {"median": float(np.median(v)), "min": float(min(v)), "max": float(max(v))} if v else None
+
+    ps_ours = spread(o.particle_steps_per_s for o, _ in runs)
+    ps_theirs = spread(t.particle_steps_per_s for _, t in runs) if liggghts else None
+    ratios = spread(o.particle_steps_per_s / t.particle_steps_per_s for o, t in runs) if liggghts else None
+    return {
+        "n": n, "steps": steps, "threads": threads, "liggghts_ranks": ranks if liggghts else None, "pairs": pairs,
+        "wallsim_particle_steps_per_s": ps_ours["median"],
+        "liggghts_particle_steps_per_s": ps_theirs["median"] if ps_theirs else None,
+        "ratio": ratios["median"] if ratios else None,
+        "spread": {"wallsim_particle_steps_per_s": ps_ours, "liggghts_particle_steps_per_s": ps_theirs,
+                   "ratio": ratios,
+                   "wallsim_cpu_seconds": spread(o.cpu_seconds for o, _ in runs),
+                   "liggghts_cpu_seconds": spread(t.cpu_seconds for _, t in runs) if liggghts else None},
+        "runs": [{"wallsim_particle_steps_per_s": o.particle_steps_per_s, "wallsim_seconds": o.seconds,
+                  "wallsim_cpu_seconds": o.cpu_seconds,
+                  "liggghts_particle_steps_per_s": t.particle_steps_per_s if t else None,
+                  "liggghts_seconds": t.seconds if t else None, "liggghts_cpu_seconds": t.cpu_seconds if t else None}
+                 for o, t in runs],
         "wallsim_seconds": ours.seconds,
         "liggghts_seconds": theirs.seconds if theirs else None,
         "check": {
@@ -176,7 +214,6 @@ def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts:
                           "contacts": theirs.contacts} if theirs else None),
         },
     }
-    return result
 
 
 def scaling(steps: int = 500, threads: int = 2) -> list[dict]:
