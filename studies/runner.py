@@ -207,6 +207,20 @@ def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int
                     spawn=spawn, enabled=path is not None or spawn, layout=layout, vtk=vtk)
 
 
+@contextmanager
+def test_recording(folder: RunFolder | Path, *, study: str, label: str, dim: int = 2):
+    """The recording of one test of a calibration that runs several (``--vtk``: its frames
+    in vtk/<label>/, each test with its own clock): yields the recorder, or None when the
+    run records nothing."""
+    run_dir = Path(getattr(folder, "path", folder))
+    rec = open_recording(None, study=study, recording_id=f"{run_dir.name}-{label}", dim=dim, folder=folder,
+                         part=label)
+    try:
+        yield rec if rec.enabled else None
+    finally:
+        rec.close()
+
+
 #: where a run's VTK files go in its folder (``--vtk``)
 VTK_FOLDER = "vtk"
 

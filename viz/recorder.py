@@ -359,6 +359,18 @@ class Recorder:
             self.rec.flush()
 
     @_timed
+    def log_polygons(self, step: int, time: float, outlines: list, *, kind: str = "polygons") -> None:
+        """Outlines (each (k,2) [m]) of rigid polygons, e.g. the blocks of a tilt test:
+        closed line strips under world/<kind>, and VTK polygons of that kind."""
+        if self.vtk is not None:
+            self.vtk.write_polygons(kind, step, time, outlines)
+        if self.rec is None:
+            return
+        self._set_time(step, time, None)
+        self.rec.log(f"{P.WORLD}/{kind}", rr.LineStrips2D([np.vstack([o, o[:1]]).astype(np.float32)
+                                                           for o in outlines], radii=[0.002]))
+
+    @_timed
     def log_scalar_points(self, entity: str, step: int, time: float, positions: np.ndarray, radii,
                           values: np.ndarray, vmax: float, *, diverging: bool = False) -> None:
         """Points coloured by a scalar per point: viridis over [0, vmax], or with

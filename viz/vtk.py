@@ -26,6 +26,7 @@ Kinds and their arrays (units SI; 2D forces N/m):
 * ``blocks``: polygons of rigid blocks (a block wall) with ``displacement`` [m] and any
   per-block forces the run gives (e.g. ``water_force``) [N/m]
 * ``grains``: polygons of polygonal grains (a fill of them), ``held`` (1: held fixed)
+* ``polygons``: the polygonal bodies of a frame (e.g. a gravel biaxial specimen)
 * ``joints``: points, ``normal_force`` of each block contact [N/m]
 * ``points``: any other point set a study logs with a value per point (e.g. the sheet
   pile's balls with their bending moment)
@@ -86,11 +87,12 @@ class VtkSeries:
         """Particles, contacts, wall panels and (2D) block outlines of an engine Frame."""
         t0 = _time.perf_counter()
         step, t = int(frame.step), float(frame.time)
-        self._particles(frame, step, t)
+        if len(frame.positions):
+            self._particles(frame, step, t)
         self._contacts(frame, step, t)
         self._walls(frame, step, t)
         if getattr(frame, "block_outlines", None) is not None:
-            self._polygons("blocks", step, t, frame.block_outlines, {})
+            self._polygons("polygons", step, t, frame.block_outlines, {})
         self.seconds += _time.perf_counter() - t0
 
     def write_blocks(self, step: int, time: float, outlines: list, displacement: np.ndarray, *,
@@ -102,6 +104,13 @@ class VtkSeries:
         for name, f in (forces or {}).items():
             data[name] = _vector(f, len(outlines))
         self._polygons("blocks", int(step), float(time), outlines, data)
+        self.seconds += _time.perf_counter() - t0
+
+    def write_polygons(self, kind: str, step: int, time: float, outlines: list) -> None:
+        """Polygons (each (k, 2|3) [m]) of rigid bodies under ``kind`` (e.g. the blocks of a
+        tilt test, the grains of an interface box)."""
+        t0 = _time.perf_counter()
+        self._polygons(kind, int(step), float(time), list(outlines), {})
         self.seconds += _time.perf_counter() - t0
 
     def write_grains(self, step: int, time: float, outlines: np.ndarray, held: np.ndarray) -> None:

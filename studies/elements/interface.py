@@ -49,7 +49,7 @@ from analytic.schema import check_fields, param, seed_param
 from analytic.constants import G
 
 from dem2d.blocks import BLOCK_TYPE, BlockSolver, pair_friction
-from dem2d.gravel import FILL_TYPE, Gravel, add_grains, cloud, grain_area
+from dem2d.gravel import FILL_TYPE, Gravel, add_grains, cloud, grain_area, grain_outlines
 
 WALL_TYPE = 23
 
@@ -112,6 +112,7 @@ class InterfaceShear:
     case: ShearCase
     space: pymunk.Space = None
     bodies: list = field(default_factory=list)
+    widths: np.ndarray = None
     face: pymunk.Body = None
     lid: pymunk.Body = None
     steps: int = 0
@@ -143,6 +144,7 @@ class InterfaceShear:
             s.collision_type, s.friction = WALL_TYPE, 0.0
             self.space.add(s)
         widths = g.grading.sample(n, rng)
+        self.widths = widths
         self.bodies = add_grains(self.space, centres, rng.uniform(0, math.pi, n), widths, g, fr[FILL_TYPE])
         self._run(c.place_s)
         self._add_lid()
@@ -190,17 +192,29 @@ class InterfaceShear:
         self.steps += n
         return total / (n * dt)
 
-    def shear(self, readings: int = 20) -> list[ShearReading]:
+    def shear(self, readings: int = 20, on_reading=None) -> list[ShearReading]:
         """Move the face by ``displacement_m`` at ``speed_m_s``; one reading per
-        1/readings of the displacement (forces averaged over the reading)."""
+        1/readings of the displacement (forces averaged over the reading).
+        ``on_reading(box)``: after each reading."""
         c = self.case
         out, x0 = [], self.face.position.x
         for _ in range(readings):
             t, nn = self._run(c.displacement_m / c.speed_m_s / readings, speed=c.speed_m_s)
             out.append(ShearReading(self.face.position.x - x0, float(t), float(nn), self.lid.position.y,
                                     math.degrees(math.atan2(abs(t), nn))))
+            if on_reading is not None:
+                on_reading(self)
         self.face.velocity = (0.0, 0.0)
         return out
+
+    def outlines(self) -> list:
+        """World outlines (k,2) [m] of the grains, then of the face and the lid."""
+        pos = np.array([tuple(b.position) for b in self.bodies]).reshape(-1, 2)
+        ang = np.array([b.angle for b in self.bodies])
+        grains = list(grain_outlines(pos, ang, self.widths, self.case.gravel)) if len(pos) else []
+        rigid = [[tuple(s.body.local_to_world(v)) for v in s.get_vertices()]
+                 for body in (self.face, self.lid) for s in body.shapes]
+        return grains + rigid
 
     def applied_normal(self) -> float:
         """sigma_n L plus the weight of grains and lid [N/m]: what the face must carry."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from ..options import output_folder
+from ..options import VTK, output_folder
 from ..study import Command, Option, Study
 
 
@@ -34,7 +34,7 @@ def _calibrate(plan, opts: SimpleNamespace) -> tuple[dict, str]:
     folder = open_run_folder("gravel", plan, opts.out)
     t0, c0 = time.perf_counter(), time.process_time()
     with progress(opts.quiet) as bar:
-        result = run_calibration(plan, bar)
+        result = run_calibration(plan, bar, folder)
     result |= {"command": "wallsim calibrate gravel " + " ".join(sys.argv[3:]), "git": git_revision(),
                "wall_time_s": time.perf_counter() - t0, "cpu_time_s": time.process_time() - c0,
                "run_folder": str(folder.path)}
@@ -85,7 +85,7 @@ CALIBRATE = Command(
              Option("--grain-friction", "grain friction of the interface series [deg] (from the biaxial series)",
                     key="grain_friction_deg"),
              Option("--docs", "also write gravel_calibration.{md,json} here (none)", metavar="DIR",
-                    parse=output_folder("docs"))))
+                    parse=output_folder("docs")), VTK))
 
 STUDY = Study(name="gravel", title="Case-B gravel: local frictions from the biaxial and interface targets",
               commands=(CALIBRATE,))

@@ -25,6 +25,7 @@ The run folder holds both series (CSV, PNG, result.json); ``--docs DIR`` also wr
 from __future__ import annotations
 
 import dataclasses
+from contextlib import contextmanager
 import math
 import time
 from dataclasses import dataclass
@@ -123,9 +124,10 @@ def interpolate(xs, ys, target: float) -> float:
     return math.nan
 
 
-def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=None) -> dict:
+def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=None, on_frame=None) -> dict:
     """One biaxial test at local grain friction ``friction_deg``: the summary, porosity
-    (whole specimen and inner window) and the curves."""
+    (whole specimen and inner window) and the curves. ``on_frame(frame)``: the specimen
+    when compacted and at every tenth of the shear strain."""
     from studies.elements.gravel_biaxial import GravelBiaxialTest
 
     case = dataclasses.replace(plan.biaxial, seed=seed,
@@ -135,9 +137,16 @@ def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=N
     for _ in test.prepare(max_time=4.0):
         pass
     inner = test.inner_porosity()
+    marks = [m * case.max_strain / 10 for m in range(1, 11)]
+    if on_frame is not None:
+        on_frame(test.sim.frame())
     for s in test.shear():
         if tick:
             tick(s.eps_axial / case.max_strain)
+        if on_frame is not None and marks and s.eps_axial >= marks[0]:
+            on_frame(test.sim.frame())
+            while marks and s.eps_axial >= marks[0]:
+                marks.pop(0)
     r = test.result()
     return {"friction_deg": friction_deg, "seed": seed, "phi_peak_deg": r.phi_peak_deg, "eps_peak": r.eps_peak,
             "phi_cs_deg": r.phi_cs_deg, "dilatancy_deg": r.dilatancy_deg, "porosity": 1 - r.solid_fraction_0,
@@ -148,16 +157,19 @@ def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=N
                       "sigma_3": [s.sigma_3 for s in test.samples], "eps_vol": [s.eps_vol for s in test.samples]}}
 
 
-def interface_test(plan: GravelCalibration, grain_deg: float, local_deg: float, seed: int) -> dict:
+def interface_test(plan: GravelCalibration, grain_deg: float, local_deg: float, seed: int, recorder=None) -> dict:
     """One interface shear test: the global angle (forces averaged over the second half of
-    the displacement: the angle is still rising at 6 mm in the full-size box) and the readings."""
+    the displacement: the angle is still rising at 6 mm in the full-size box) and the
+    readings. ``recorder``: the box's grains, face and lid after every reading (--vtk)."""
     from studies.elements.interface import InterfaceShear
 
     g = dataclasses.replace(plan.gravel, friction_deg=grain_deg, interface_friction_deg=local_deg)
     case = dataclasses.replace(plan.shear, gravel=g, seed=seed)
     t0, c0 = time.perf_counter(), time.process_time()
     box = InterfaceShear(case).build()
-    readings = box.shear(readings=20)
+    def on_reading(b):
+        recorder.log_polygons(b.steps, b.steps * case.solver.dt, b.outlines(), kind="grains")
+    readings = box.shear(readings=20, on_reading=on_reading if recorder is not None else None)
     late = [r for r in readings if r.displacement > case.displacement_m / 2 + 1e-12]
     T, N = float(np.mean([r.shear for r in late])), float(np.mean([r.normal for r in late]))
     return {"interface_friction_deg": local_deg, "grain_friction_deg": grain_deg, "seed": seed,
@@ -187,8 +199,9 @@ def biaxial_summary(tests: list[dict], target: float, target_critical: float = T
             "peak_only": choose(mus, [r["phi_peak_deg"] for r in rows], target)}
 
 
-def run_calibration(plan: GravelCalibration, bar=None) -> dict:
-    """Both series (as ``plan.tests`` asks); the result without files."""
+def run_calibration(plan: GravelCalibration, bar=None, folder=None) -> dict:
+    """Both series (as ``plan.tests`` asks); the result without files (with ``folder``, a
+    run started with --vtk, each test's frames in vtk/<test>/)."""
     out = {"grain_shape": plan.gravel.shape,
            "paper_local": {"grain_friction_deg": PAPER_GRAIN_FRICTION_DEG,
                            "interface_friction_deg": PAPER_INTERFACE_FRICTION_DEG},
@@ -199,24 +212,27 @@ def run_calibration(plan: GravelCalibration, bar=None) -> dict:
         tests = []
         for mu in plan.frictions_deg:
             for seed in plan.seeds:
-                tests.append(biaxial_test(plan, mu, seed, _tick(bar, f"biaxial {mu:g} deg seed {seed}")))
+                with _recording(folder, f"biaxial-{mu:g}deg-seed{seed}") as rec:
+                    tests.append(biaxial_test(plan, mu, seed, _tick(bar, f"biaxial {mu:g} deg seed {seed}"),
+                                              on_frame=rec.log_frame if rec is not None else None))
         out["biaxial"] = {"tests": tests, **biaxial_summary(tests, plan.target_peak_deg, plan.target_critical_deg)}
         if grain is None:
             grain = out["biaxial"]["grain_friction_deg"]
     if plan.tests in ("both", "interface"):
         grain = plan.gravel.friction_deg if grain is None else grain
-        out["interface"] = _interface_series(plan, grain, bar)
+        out["interface"] = _interface_series(plan, grain, bar, folder)
     return out
 
 
-def _interface_series(plan: GravelCalibration, grain: float, bar) -> dict:
+def _interface_series(plan: GravelCalibration, grain: float, bar, folder=None) -> dict:
     """Every local fill-block friction on every seed; per friction the seed mean and sd of
     the global angle; the chosen local value (``choose`` on the means)."""
     tests = []
     for mu in plan.interface_frictions_deg:
         for seed in plan.seeds:
             tick = _tick(bar, f"interface {mu:g} deg seed {seed}")
-            tests.append(interface_test(plan, grain, mu, seed))
+            with _recording(folder, f"interface-{mu:g}deg-seed{seed}") as rec:
+                tests.append(interface_test(plan, grain, mu, seed, recorder=rec))
             if tick:
                 tick(1.0)
     rows = []
@@ -228,6 +244,17 @@ def _interface_series(plan: GravelCalibration, grain: float, bar) -> dict:
                   plan.target_interface_deg)
     return {"tests": tests, "rows": rows, "grain_friction_deg": grain, "interface_friction_deg": pick["value_deg"],
             "choice": pick}
+
+
+@contextmanager
+def _recording(folder, label: str):
+    """One test's recorder (--vtk), or None (no folder, or a run that records nothing)."""
+    if folder is None:
+        yield None
+        return
+    from studies.runner import test_recording
+    with test_recording(folder, study="gravel", label=label) as rec:
+        yield rec
 
 
 def _tick(bar, label: str):

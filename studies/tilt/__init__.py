@@ -8,12 +8,14 @@ from __future__ import annotations
 
 import math
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 from types import SimpleNamespace
 
 from analytic.errors import InvalidParameter
 from analytic.schema import check_fields, param
 
+from ..options import VTK
 from ..study import Command, Option, Study
 
 
@@ -49,22 +51,27 @@ class TiltCase:
                                        "a block must be slender: width below slender_height_m")
 
 
-def tilt_tests(case: TiltCase) -> dict:
-    """Every slide and topple test of ``case`` (no files)."""
+def tilt_tests(case: TiltCase, folder=None) -> dict:
+    """Every slide and topple test of ``case`` (no files; with ``folder``, a run started
+    with --vtk, each test's blocks at every held angle of its fine search in
+    vtk/<test>/)."""
     from dem2d.blocks import BlockSolver
 
     from .protocol import tilt_slide_angle, topple_angle
 
     solver = BlockSolver(dt=case.dt, iterations=case.iterations)
-    slides = [{"friction_deg": f, "slide_angle_deg": tilt_slide_angle(f, block=(case.block_length_m,
-                                                                              case.block_height_m),
-                                                                     solver=solver, resolution_deg=case.resolution_deg)}
-              for f in case.frictions_deg]
+    slides = []
+    for f in case.frictions_deg:
+        with _recording(folder, f"slide-{f:g}deg", solver.dt) as on_step:
+            slides.append({"friction_deg": f, "slide_angle_deg": tilt_slide_angle(
+                f, block=(case.block_length_m, case.block_height_m), solver=solver,
+                resolution_deg=case.resolution_deg, on_step=on_step)})
     topples = []
     for w in case.slender_widths_m:
         expected = math.degrees(math.atan(w / case.slender_height_m))
-        got = topple_angle(w, case.slender_height_m, friction_deg=min(expected + 30, 80), solver=solver,
-                           resolution_deg=case.resolution_deg)
+        with _recording(folder, f"topple-{w:g}m", solver.dt) as on_step:
+            got = topple_angle(w, case.slender_height_m, friction_deg=min(expected + 30, 80), solver=solver,
+                               resolution_deg=case.resolution_deg, on_step=on_step)
         topples.append({"width_m": w, "height_m": case.slender_height_m, "expected_deg": expected,
                         "topple_angle_deg": got})
     for s in slides:
@@ -74,12 +81,25 @@ def tilt_tests(case: TiltCase) -> dict:
     return {"slides": slides, "topples": topples, "collision_slop_m": solver.collision_slop}
 
 
+@contextmanager
+def _recording(folder, label: str, dt: float):
+    """The ``on_step`` of one test that records its blocks (--vtk), or None."""
+    if folder is None:
+        yield None
+        return
+    from ..runner import test_recording
+    from .protocol import outlines
+    with test_recording(folder, study="tilt", label=label) as rec:
+        yield (lambda space, steps: rec.log_polygons(steps, steps * dt, outlines(space), kind="blocks")) \
+            if rec is not None else None
+
+
 def _calibrate(case: TiltCase, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..runner import finish, open_run_folder
 
     t0, c0 = time.perf_counter(), time.process_time()
     folder = open_run_folder("tilt", case, opts.out, seed=None)
-    r = tilt_tests(case)
+    r = tilt_tests(case, folder)
     folder.write_csv("slides.csv", ["friction_deg", "slide_angle_deg", "error_deg"],
                      [[s["friction_deg"], s["slide_angle_deg"], s["error_deg"]] for s in r["slides"]])
     folder.write_csv("topples.csv", ["width_m", "height_m", "expected_deg", "topple_angle_deg", "error_deg"],
@@ -113,7 +133,7 @@ CALIBRATE = Command(
                 "(pymunk multiplies shape frictions). Example: wallsim calibrate tilt --friction 36,28.5",
     default_case=TiltCase, run=_calibrate, text=_text, seed_key=None,
     options=(Option("--friction", "friction angles to test [deg] (36,28.5,35,25)", key="frictions_deg"),
-             Option("--dt", "time step [s] (5e-4)", key="dt")))
+             Option("--dt", "time step [s] (5e-4)", key="dt"), VTK))
 
 STUDY = Study(name="tilt", title="Tilt tests of the rigid dry-stone blocks (slide and toppling angles)",
               commands=(CALIBRATE,))

@@ -35,10 +35,19 @@ def _tilt_pair(lower: tuple[float, float], upper: tuple[float, float], friction_
     return space, body
 
 
-def _tilt_until(friction_deg, lower, upper, solver, moved, start_deg, step_deg, hold_s, stop_deg, handler):
-    """Tilt (by turning gravity) in steps until ``moved(body, x0)``; the angle [deg] or NaN."""
+def outlines(space: pymunk.Space) -> list:
+    """World outlines (k,2) [m] of every polygon in ``space`` (the blocks of a tilt test)."""
+    return [[tuple(s.body.local_to_world(v)) for v in s.get_vertices()] for s in space.shapes
+            if isinstance(s, pymunk.Poly)]
+
+
+def _tilt_until(friction_deg, lower, upper, solver, moved, start_deg, step_deg, hold_s, stop_deg, handler,
+                on_step=None):
+    """Tilt (by turning gravity) in steps until ``moved(body, x0)``; the angle [deg] or NaN.
+    ``on_step(space, steps)``: after every held angle."""
     space, body = _tilt_pair(lower, upper, friction_deg, solver, handler)
     n = max(int(round(hold_s / solver.dt)), 1)
+    steps = 0
     beta = start_deg
     space.gravity = (G * math.sin(math.radians(beta)), -G * math.cos(math.radians(beta)))
     for _ in range(n):
@@ -51,6 +60,9 @@ def _tilt_until(friction_deg, lower, upper, solver, moved, start_deg, step_deg, 
                 space.step(solver.dt)
                 if marks:
                     raise KeyboardInterrupt
+        steps += n
+        if on_step is not None:
+            on_step(space, steps)
         if moved(body, x0):
             return beta
         beta += step_deg
@@ -58,7 +70,7 @@ def _tilt_until(friction_deg, lower, upper, solver, moved, start_deg, step_deg, 
 
 
 def tilt_slide_angle(friction_deg: float, *, block=(0.30, 0.125), solver: BlockSolver = BlockSolver(),
-                     resolution_deg: float = 0.05, handler: bool = False) -> float:
+                     resolution_deg: float = 0.05, handler: bool = False, on_step=None) -> float:
     """Tilt angle [deg] at which a block on an identical fixed block starts to slide
     (tilt test; rigid Coulomb contact: tan(angle) = mu, so angle = ``friction_deg``).
     Gravity is turned in steps of 1 deg, then of ``resolution_deg`` from 1 deg below the
@@ -71,11 +83,12 @@ def tilt_slide_angle(friction_deg: float, *, block=(0.30, 0.125), solver: BlockS
     if math.isnan(coarse):
         return coarse
     return _tilt_until(friction_deg, block, block, solver, slid, max(coarse - 1.0, 0.0), resolution_deg, 0.05,
-                       coarse + 1.0, handler)
+                       coarse + 1.0, handler, on_step)
 
 
 def topple_angle(width: float, height: float, *, friction_deg: float = 60.0,
-                 solver: BlockSolver = BlockSolver(), resolution_deg: float = 0.05, handler: bool = False) -> float:
+                 solver: BlockSolver = BlockSolver(), resolution_deg: float = 0.05, handler: bool = False,
+                 on_step=None) -> float:
     """Tilt angle [deg] at which a slender block (``width`` x ``height``) on a wide fixed
     block tips over (its weight passes the downhill corner: atan(width / height), when
     the friction holds it from sliding: friction_deg > that). Tipped = rotated 0.01 deg
@@ -87,4 +100,4 @@ def topple_angle(width: float, height: float, *, friction_deg: float = 60.0,
     if math.isnan(coarse):
         return coarse
     return _tilt_until(friction_deg, lower, (width, height), solver, tipped, max(coarse - 1.0, 0.0),
-                       resolution_deg, 0.1, coarse + 1.0, handler)
+                       resolution_deg, 0.1, coarse + 1.0, handler, on_step)

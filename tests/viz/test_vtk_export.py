@@ -22,6 +22,7 @@ import meshio
 import numpy as np
 import pytest
 
+import studies
 from studies import get
 from studies.runner import saved_options
 from viz.vtk import VtkSeries
@@ -220,3 +221,36 @@ def test_calibrations_write_each_test_as_its_own_series(tmp_path):
         particles = _collection(run / "vtk" / f"mu{test['friction']:g}", "particles")
         assert len(particles) == 11
         assert all(len(meshio.read(p).points) == test["n_grains"] for _, p in particles)
+
+
+def test_the_block_and_gravel_calibrations_write_their_bodies(tmp_path):
+    """calibrate tilt: each test's two blocks at every held angle of its fine search
+    (polygons of 4 corners, the free block's corners moving with it); calibrate gravel
+    (the reduced plan of tests/studies/test_gravel_study.py): the biaxial specimen's
+    grains as polygons at 11 marks, and the interface box (grains, face, lid) after each
+    of its 20 readings."""
+    import cli
+
+    out = tmp_path / "runs"
+    assert cli.main(["calibrate", "tilt", "--friction", "30", "--vtk", "--out", str(out), "--quiet"]) == 0
+    run = next((out / "tilt").iterdir())
+    parts = json.loads((run / "result.json").read_text())["vtk"]["parts"]
+    assert set(parts) == {"slide-30deg", "topple-0.1m", "topple-0.125m"}
+    frames = _collection(run / "vtk" / "topple-0.1m", "blocks")
+    first, last = meshio.read(frames[0][1]), meshio.read(frames[-1][1])
+    assert _cells(first, "polygon") == _cells(last, "polygon") == 2 and len(first.points) == 8
+    assert not np.allclose(first.points[4:], last.points[4:])          # the slender block tipped
+
+    cmd = studies.get("gravel").commands[0]
+    plan = cmd.resolve(sets=["frictions_deg=45", "seeds=1", "interface_frictions_deg=25",
+                             "grain_friction_deg=45", "biaxial.width=0.35", "biaxial.height=0.7",
+                             "biaxial.max_strain=0.06", "shear.length_m=0.3", "shear.height_m=0.15",
+                             "shear.displacement_m=0.006", "gravel.width_min_m=0.015", "gravel.width_max_m=0.024"])
+    result = studies.get("gravel").run(plan, out=str(out), vtk=True)
+    vtk = Path(result["vtk"]["folder"])
+    biaxial = _collection(vtk / "biaxial-45deg-seed1", "polygons")
+    assert len(biaxial) == 11
+    assert _cells(meshio.read(biaxial[-1][1]), "polygon") == result["biaxial"]["tests"][0]["n_grains"]
+    box = _collection(vtk / "interface-25deg-seed1", "grains")
+    assert len(box) == 20
+    assert _cells(meshio.read(box[-1][1]), "polygon") == result["interface"]["tests"][0]["n_grains"] + 2
