@@ -9,8 +9,11 @@ runs are written as z = 0 geometry, their vectors with a zero z component, force
 metre of wall.
 
 The folder (``vtk/`` in the run folder) holds ``<kind>_<step>.vtu`` files, ``<kind>.pvd``
-and ``frames.json`` (the index the collections are rebuilt from, so a resumed run adds
-its frames to those written before the interruption). Files are written whole (a
+and ``frames.jsonl``, the index: one line appended per file written (and the writing
+time), from which the collections are rebuilt every ``FLUSH_EVERY`` files and at the
+end, and from which a resumed run goes on (its frames join those written before the
+interruption). Appending keeps a long run's cost per frame constant; an interrupted run's
+.pvd may lag its last files, which its resume writes again. Files are written whole (a
 temporary name, then a rename): an interrupted run leaves readable files only.
 
 Kinds and their arrays (units SI; 2D forces N/m):
@@ -45,8 +48,27 @@ from pyevtk.vtk import VtkGroup, VtkLine, VtkPolygon, VtkVertex
 
 from analytic.frame import panel_normal_stress
 
-#: the index of the frames written, from which every .pvd is rebuilt
-INDEX = "frames.json"
+#: the index of the files written (JSON lines), from which every .pvd is rebuilt
+INDEX = "frames.jsonl"
+#: files written between two rebuilds of the collections
+FLUSH_EVERY = 20
+
+
+def _read_index(folder: Path) -> tuple[dict[str, list[list]], float]:
+    """(kind -> [[time, file], ...] in time order, write seconds) from the index; a file
+    written again replaces its earlier line."""
+    frames: dict[str, dict[str, float]] = {}
+    seconds = 0.0
+    index = folder / INDEX
+    if index.is_file():
+        for line in index.read_text().splitlines():
+            rec = json.loads(line)
+            if "file" in rec:
+                frames.setdefault(rec["kind"], {})[rec["file"]] = rec["time"]
+            else:
+                seconds = rec["write_seconds"]
+    ordered = {k: sorted(([t, f] for f, t in v.items()), key=lambda e: (e[0], e[1])) for k, v in frames.items()}
+    return ordered, seconds
 
 
 def _xyz(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -76,11 +98,10 @@ class VtkSeries:
 
     def __init__(self, folder: str | Path):
         self.folder = Path(folder)
-        index = self.folder / INDEX
-        held = json.loads(index.read_text()) if index.is_file() else {}
         #: kind -> [[time, file name], ...] in time order
-        self.frames: dict[str, list[list]] = held.get("frames", {})
-        self.seconds = float(held.get("write_seconds", 0.0))
+        self.frames, self.seconds = _read_index(self.folder)
+        self._unsaved: set[str] = set(self.frames)      # a resumed run rebuilds every collection
+        self._pending = 0
 
     # ------------------------------------------------------------------ one frame
     def write_frame(self, frame) -> None:
@@ -205,29 +226,38 @@ class VtkSeries:
         unstructuredGridToVTK(str(tmp), x, y, z, connectivity=connectivity, offsets=offsets, cell_types=types,
                               cellData=cell_data or None, pointData=point_data or None)
         os.replace(f"{tmp}.vtu", self.folder / f"{name}.vtu")
-        entries = [e for e in self.frames.get(kind, []) if e[1] != f"{name}.vtu"] + [[t, f"{name}.vtu"]]
-        self.frames[kind] = sorted(entries, key=lambda e: (e[0], e[1]))
-        self._collection(kind)
+        with open(self.folder / INDEX, "a") as index:
+            index.write(json.dumps({"kind": kind, "time": t, "file": f"{name}.vtu"}) + "\n")
+        entries = self.frames.setdefault(kind, [])
+        if entries and entries[-1][0] < t:
+            entries.append([t, f"{name}.vtu"])                # the usual case: time goes on
+        else:
+            entries[:] = sorted([e for e in entries if e[1] != f"{name}.vtu"] + [[t, f"{name}.vtu"]],
+                                key=lambda e: (e[0], e[1]))
+        self._unsaved.add(kind)
+        self._pending += 1
+        if self._pending >= FLUSH_EVERY:
+            self.flush()
 
-    def _collection(self, kind: str) -> None:
-        """``<kind>.pvd`` (every frame of the kind with its time) and the index."""
-        tmp = self.folder / f".{kind}.tmp"
-        group = VtkGroup(str(tmp))
-        for t, name in self.frames[kind]:
-            group.addFile(str(self.folder / name), sim_time=repr(float(t)))
-        group.save()
-        os.replace(f"{tmp}.pvd", self.folder / f"{kind}.pvd")
-        self._index()
-
-    def _index(self) -> None:
-        index = self.folder / f".{INDEX}.tmp"
-        index.write_text(json.dumps({"frames": self.frames, "write_seconds": self.seconds}, indent=1))
-        os.replace(index, self.folder / INDEX)
+    def flush(self) -> None:
+        """Rebuild the collections of the kinds with new files (``<kind>.pvd``: every
+        frame of the kind with its time) and note the writing time in the index."""
+        for kind in sorted(self._unsaved):
+            tmp = self.folder / f".{kind}.tmp"
+            group = VtkGroup(str(tmp))
+            for t, name in self.frames[kind]:
+                group.addFile(str(self.folder / name), sim_time=repr(float(t)))
+            group.save()
+            os.replace(f"{tmp}.pvd", self.folder / f"{kind}.pvd")
+        if self._unsaved:
+            with open(self.folder / INDEX, "a") as index:
+                index.write(json.dumps({"write_seconds": self.seconds}) + "\n")
+        self._unsaved.clear()
+        self._pending = 0
 
     def close(self) -> None:
-        """Write the index with the time spent on the last frame too."""
-        if self.frames:
-            self._index()
+        """The collections and the index, up to the last file written."""
+        self.flush()
 
 
 def summary(folder: str | Path) -> dict | None:
@@ -236,18 +266,16 @@ def summary(folder: str | Path) -> dict | None:
     wall time spent writing them all [s]. A run of several tests (one subfolder each):
     ``parts``, the same for each, with the totals."""
     folder = Path(folder)
-    index = folder / INDEX
-    if not index.is_file():
+    if not (folder / INDEX).is_file():
         parts = {p.name: summary(p) for p in sorted(folder.iterdir()) if (p / INDEX).is_file()} \
             if folder.is_dir() else {}
         if not parts:
             return None
         return {"folder": str(folder), "parts": parts, "MB": sum(p["MB"] for p in parts.values()),
                 "write_seconds": sum(p["write_seconds"] for p in parts.values())}
-    held = json.loads(index.read_text())
-    frames = held["frames"]
+    frames, seconds = _read_index(folder)
     size = {k: sum((folder / name).stat().st_size for _, name in v) / 1e6 for k, v in frames.items()}
     return {"folder": str(folder), "collections": sorted(f"{k}.pvd" for k in frames),
             "frames": {k: len(v) for k, v in frames.items()}, "MB": sum(size.values()),
             "MB_per_frame": {k: size[k] / max(len(frames[k]), 1) for k in frames},
-            "write_seconds": held["write_seconds"]}
+            "write_seconds": seconds}

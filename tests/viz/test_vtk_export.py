@@ -171,10 +171,12 @@ def test_drystone_wall_reads_back(tmp_path):
 
 
 def test_a_resumed_series_keeps_the_frames_before_the_interruption(tmp_path):
-    """The collection is rebuilt from frames.json: a second writer on the same folder (a
-    resumed run) adds its frames to the first one's, and a frame written again (the
-    same step) replaces the old one."""
+    """The collections are rebuilt from the index (frames.jsonl, one line per file): a
+    writer interrupted before it closed (its .pvd not yet written) and a second writer on
+    the same folder (the resumed run) end with every frame, a frame written again (the
+    same step) replacing the old one."""
     from analytic.frame import Frame
+    from viz.vtk import summary
 
     def frame(step):
         x = np.array([[0.0, 0.0], [1.0, 0.0]])
@@ -184,12 +186,14 @@ def test_a_resumed_series_keeps_the_frames_before_the_interruption(tmp_path):
 
     first = VtkSeries(tmp_path)
     first.write_frame(frame(1))
-    first.write_frame(frame(2))
+    first.write_frame(frame(2))                                         # interrupted: never closed
     again = VtkSeries(tmp_path)
     again.write_frame(frame(2))
     again.write_frame(frame(3))
+    again.close()
     assert [t for t, _ in _collection(tmp_path, "particles")] == [0.5, 1.0, 1.5]
-    assert json.loads((tmp_path / "frames.json").read_text())["frames"]["contacts"][-1][1] == "contacts_0000000003.vtu"
+    assert [name for _, name in _collection(tmp_path, "contacts")][-1].name == "contacts_0000000003.vtu"
+    assert summary(tmp_path)["frames"] == {"particles": 3, "contacts": 3}
     assert not list(tmp_path.glob(".*"))                                # no temporary file left
 
 
