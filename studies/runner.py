@@ -208,10 +208,13 @@ def open_recording(path: Path | None, *, study: str, recording_id: str, dim: int
 
 
 @contextmanager
-def test_recording(folder: RunFolder | Path, *, study: str, label: str, dim: int = 2):
+def test_recording(folder: RunFolder | Path | None, *, study: str, label: str, dim: int = 2):
     """The recording of one test of a calibration that runs several (``--vtk``: its frames
     in vtk/<label>/, each test with its own clock): yields the recorder, or None when the
-    run records nothing."""
+    run records nothing (or there is no run ``folder``)."""
+    if folder is None:
+        yield None
+        return
     run_dir = Path(getattr(folder, "path", folder))
     rec = open_recording(None, study=study, recording_id=f"{run_dir.name}-{label}", dim=dim, folder=folder,
                          part=label)

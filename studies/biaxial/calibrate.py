@@ -24,7 +24,7 @@ from studies.elements.biaxial import MAX_CONFINING_PA, MAX_FRICTION, BiaxialCase
 from dem2d.params import Solver
 from studies.progress import progress
 from studies.runfolder import RunFolder
-from studies.runner import finish, open_recording, open_run_folder
+from studies.runner import finish, open_run_folder, test_recording
 from studies.store import atomic_write, to_plain
 from studies.store import find_card_entry
 
@@ -119,13 +119,8 @@ def calibrate(plan: CalibrationPlan, *, root: str | Path = "runs", quiet: bool =
             Path(card).parent.mkdir(parents=True, exist_ok=True)
             atomic_write(card, (json.dumps(to_plain(_card(plan, tests, rf, mu_cal)), indent=2) + "\n").encode())
 
-    def recorder(label: str):
-        """--vtk: each test's frames in vtk/<label>/ (each test has its own clock)."""
-        return open_recording(None, study="biaxial", recording_id=f"{rf.path.name}-{label}", dim=2, folder=rf,
-                              part=label)
-
     with progress(quiet) as bar:
-        mu_cal = _run_tests(plan, tests, bar, save_card, recorder)
+        mu_cal = _run_tests(plan, tests, bar, save_card, rf)
     _write_curves(rf, tests)
     result = _card(plan, tests, rf, mu_cal)
     result["calibrated_friction_peak"] = interpolate_friction(tests[:len(plan.frictions)], plan.target_phi,
@@ -150,17 +145,15 @@ def _card(plan: CalibrationPlan, tests: list[dict], rf: RunFolder, mu_cal: float
             "run_folder": str(rf.path)}
 
 
-def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card, recorder=None) -> float:
+def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card, folder=None) -> float:
     """The friction series at the plan's confining stress, then the pressure series at
     the calibrated friction; each test is appended to ``tests`` and ``save_card`` called
-    after it; ``recorder(label)`` opens a test's recording. Returns the calibrated
-    friction (nan when the series does not bracket the target phi)."""
+    after it; with ``folder`` (a run started with --vtk) each test's frames go to
+    vtk/<test>/. Returns the calibrated friction (nan when the series does not bracket
+    the target phi)."""
     def one(case, label: str, part: str) -> None:
-        rec = recorder(part) if recorder is not None else None
-        on_frame = rec.log_frame if rec is not None and rec.enabled else None
-        out, _, _ = run_one(case, bar, label, on_frame)
-        if rec is not None:
-            rec.close()
+        with test_recording(folder, study="biaxial", label=part) as rec:
+            out, _, _ = run_one(case, bar, label, rec.log_frame if rec is not None else None)
         tests.append(out)
 
     for mu in plan.frictions:

@@ -25,7 +25,6 @@ The run folder holds both series (CSV, PNG, result.json); ``--docs DIR`` also wr
 from __future__ import annotations
 
 import dataclasses
-from contextlib import contextmanager
 import math
 import time
 from dataclasses import dataclass
@@ -38,6 +37,7 @@ from analytic.schema import MAX_SEED, check_fields, param
 from dem2d.blocks import BlockSolver
 from dem2d.gravel import Gravel
 from studies.elements.gravel_biaxial import GravelBiaxialCase
+from studies.runner import test_recording
 from studies.elements.interface import ShearCase
 
 TESTS = ("both", "biaxial", "interface")
@@ -212,7 +212,7 @@ def run_calibration(plan: GravelCalibration, bar=None, folder=None) -> dict:
         tests = []
         for mu in plan.frictions_deg:
             for seed in plan.seeds:
-                with _recording(folder, f"biaxial-{mu:g}deg-seed{seed}") as rec:
+                with test_recording(folder, study="gravel", label=f"biaxial-{mu:g}deg-seed{seed}") as rec:
                     tests.append(biaxial_test(plan, mu, seed, _tick(bar, f"biaxial {mu:g} deg seed {seed}"),
                                               on_frame=rec.log_frame if rec is not None else None))
         out["biaxial"] = {"tests": tests, **biaxial_summary(tests, plan.target_peak_deg, plan.target_critical_deg)}
@@ -231,7 +231,7 @@ def _interface_series(plan: GravelCalibration, grain: float, bar, folder=None) -
     for mu in plan.interface_frictions_deg:
         for seed in plan.seeds:
             tick = _tick(bar, f"interface {mu:g} deg seed {seed}")
-            with _recording(folder, f"interface-{mu:g}deg-seed{seed}") as rec:
+            with test_recording(folder, study="gravel", label=f"interface-{mu:g}deg-seed{seed}") as rec:
                 tests.append(interface_test(plan, grain, mu, seed, recorder=rec))
             if tick:
                 tick(1.0)
@@ -244,17 +244,6 @@ def _interface_series(plan: GravelCalibration, grain: float, bar, folder=None) -
                   plan.target_interface_deg)
     return {"tests": tests, "rows": rows, "grain_friction_deg": grain, "interface_friction_deg": pick["value_deg"],
             "choice": pick}
-
-
-@contextmanager
-def _recording(folder, label: str):
-    """One test's recorder (--vtk), or None (no folder, or a run that records nothing)."""
-    if folder is None:
-        yield None
-        return
-    from studies.runner import test_recording
-    with test_recording(folder, study="gravel", label=label) as rec:
-        yield rec
 
 
 def _tick(bar, label: str):

@@ -84,9 +84,6 @@ def tilt_tests(case: TiltCase, folder=None) -> dict:
 @contextmanager
 def _recording(folder, label: str, dt: float):
     """The ``on_step`` of one test that records its blocks (--vtk), or None."""
-    if folder is None:
-        yield None
-        return
     from ..runner import test_recording
     from .protocol import outlines
     with test_recording(folder, study="tilt", label=label) as rec:
