@@ -26,7 +26,7 @@ import dem3d
 from analytic.inputs import MAX_PRESSURE_KPA
 from analytic.schema import check_fields, param
 
-from ..granular import CLUMP_VOLUME_FACTOR, SpecimenRecipe, contact_law, time_step
+from ..granular import CLUMP_VOLUME_FACTOR, SpecimenRecipe, contact_law, frictional_law, time_step
 
 
 @dataclass
@@ -217,7 +217,7 @@ def _rebalance(cell: ServoCell, rec: SpecimenRecipe, target: np.ndarray,
                setup: TriaxialSetup) -> tuple[np.ndarray, float]:
     """Stage 2: the particle friction on, 2000 // chunk chunks of servo at the confining stress.
     Returns the box dimensions [m] and porosity at the start of shearing."""
-    cell.sim.set_params(contact_law(rec, rec.particle_friction, rec.local_damping))
+    cell.sim.set_params(frictional_law(rec, rec.local_damping))
     for it in range(2000 // setup.chunk):
         cell.servo_step(target, ALL_BUT_FLOOR, 0.2 * setup.servo_speed, setup.chunk)
     dims0 = cell.box()
@@ -234,7 +234,7 @@ def _shear(cell: ServoCell, rec: SpecimenRecipe, target: np.ndarray, setup: Tria
     with the specimen's frame at the start and each time another tenth of
     ``max_strain`` is reached."""
     sim, servo, normal = cell.sim, cell.servo, cell.normal
-    sim.set_params(contact_law(rec, rec.particle_friction, 0.0))
+    sim.set_params(frictional_law(rec, 0.0))
     H0 = dims0[2]
     v_axial = setup.strain_rate * H0
     servo[5].value = tuple(v_axial * normal[5])

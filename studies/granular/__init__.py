@@ -13,6 +13,7 @@ The Nadukuru study runs its paper's case on them; a study of another wall uses t
 pipeline with its own case (anything with ``specimen``, ``wall``, ``movement``, ``seed``).
 """
 
-from .recipe import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law, time_step
+from .recipe import CLUMP_VOLUME_FACTOR, MOST_PARTICLE_STEPS, SpecimenRecipe, contact_law, frictional_law, time_step
 
-__all__ = ["CLUMP_VOLUME_FACTOR", "MOST_PARTICLE_STEPS", "SpecimenRecipe", "contact_law", "time_step"]
+__all__ = ["CLUMP_VOLUME_FACTOR", "MOST_PARTICLE_STEPS", "SpecimenRecipe", "contact_law", "frictional_law",
+           "time_step"]

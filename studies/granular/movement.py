@@ -21,7 +21,7 @@ import numpy as np
 import dem3d
 
 from ..config import with_current_names
-from .recipe import contact_law
+from .recipe import frictional_law
 from ..measures import steady_displacement
 from ..store import atomic_write, load_npz, npz_bytes
 
@@ -61,6 +61,7 @@ class LoadSample:
     resultant_height_over_H: float              # height of the resultant / H
     thrust_kN: float
     segment_stress: np.ndarray   # (segments,) Pa, bottom to top
+    shear_kN: float = float("nan")   # force along the wall, + downward on the wall (width w)
 
 
 def move_wall(case: WallCase, specimen: Specimen, *, frame_every: int = 0, progress=None,
@@ -123,7 +124,7 @@ def _movement_simulation(case: WallCase, specimen: Specimen, wall: WallSetup,
         t0 = float(specimen.state["time"])
         sim = dem3d.Simulation.from_arrays(specimen.state, walls=box_walls(wall, rec, _shifted(motion, t0)))
         sim.walls.reset_pivots()              # a new motion, not the stored (fixed) one
-        sim.set_params(contact_law(rec, rec.particle_friction, mv.local_damping))
+        sim.set_params(frictional_law(rec, mv.local_damping))
     else:
         t0 = float(resume["movement.t0"])
         sim = dem3d.Simulation.from_arrays({k: v for k, v in resume.items() if k != "movement.t0"},
@@ -144,7 +145,7 @@ def _averaged_sample(sim, hist_f, hist_m, ids, m: int, t0: float, case: WallCase
     disp = _ramp_distance(mv.speed, mv.ramp, sim.time - t0 - 0.5 * m * sim.dt)
     return LoadSample(disp / H, sim.time, sim.step_count,
                       load_coefficient(load.normal, specimen.porosity, case.specimen, wall),
-                      load.height / H, load.normal / 1e3, load.segment_stress)
+                      load.height / H, load.normal / 1e3, load.segment_stress, load.shear / 1e3)
 
 
 def _shifted(motion: dem3d.Motion, t0: float) -> dem3d.Motion:
@@ -177,15 +178,16 @@ def run_modes(case: WallCase, specimen: Specimen, *, on_sample=None, on_frame=No
         data = load_npz(checkpoint_path)
         resume = {k: v for k, v in data.items() if not k.startswith("hist.")}
         h = with_current_names({k[5:]: v for k, v in data.items() if k.startswith("hist.")})
-        samples = [LoadSample(float(d), float(t), int(st), float(K), float(c), float(nk), seg)
-                   for d, t, st, K, c, nk, seg in zip(h["disp"], h["time"], h["step"], h["K"], h["resultant_height_over_H"],
-                                                      h["normal"], h["seg"])]
+        shear = h.get("shear", np.full(len(h["K"]), np.nan))      # absent from checkpoints made before it
+        samples = [LoadSample(float(d), float(t), int(st), float(K), float(c), float(nk), seg, float(sh))
+                   for d, t, st, K, c, nk, seg, sh in zip(h["disp"], h["time"], h["step"], h["K"],
+                                                          h["resultant_height_over_H"], h["normal"], h["seg"], shear)]
 
     def save(state):
         hist = {"hist.disp": [s.wall_disp_over_H for s in samples], "hist.time": [s.time for s in samples],
                 "hist.step": [s.step for s in samples], "hist.K": [s.K for s in samples],
                 "hist.resultant_height_over_H": [s.resultant_height_over_H for s in samples],
-                "hist.normal": [s.thrust_kN for s in samples],
+                "hist.normal": [s.thrust_kN for s in samples], "hist.shear": [s.shear_kN for s in samples],
                 "hist.seg": np.array([s.segment_stress for s in samples])}
         atomic_write(checkpoint_path, npz_bytes({**state, **{k: np.asarray(v) for k, v in hist.items()}}))
 
@@ -201,8 +203,12 @@ def run_modes(case: WallCase, specimen: Specimen, *, on_sample=None, on_frame=No
     K = np.array([s.K for s in samples])
     cen = np.array([s.resultant_height_over_H for s in samples])
     seg = np.array([s.segment_stress for s in samples])
+    thrust = np.array([s.thrust_kN for s in samples])
+    shear = np.array([s.shear_kN for s in samples])
     tail = disp >= 0.9 * disp[-1]
     return {"wall_disp_over_H": disp, "K": K, "resultant_height_over_H": cen, "segment_stress": seg,
+            "thrust_kN": thrust, "shear_kN": shear,
+            "thrust_kN_active": float(thrust[tail].mean()), "shear_kN_active": float(shear[tail].mean()),
             "time": np.array([s.time for s in samples]), "step": np.array([s.step for s in samples]),
             "K_active": float(K[tail].mean()), "resultant_height_over_H_active": float(cen[tail].mean()),
             "segment_stress_active": seg[tail].mean(axis=0),

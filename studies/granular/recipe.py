@@ -47,6 +47,11 @@ class SpecimenRecipe:
     kn: float = param(8.3e6, unit="N/m", lo=0, lo_open=True, meaning="normal contact stiffness (paper 8.3e6)")
     ks: float = param(3.32e6, unit="N/m", lo=0, lo_open=True, meaning="shear contact stiffness (paper 3.32e6)")
     particle_friction: float = param(0.65, lo=0, meaning="friction coefficient between grains (paper 0.65)")
+    # the wall study reaches angles above the mixture's ~37 deg with it (its phi card);
+    # 0 keeps the paper's recipe and every cache key made before it existed
+    rolling_friction: float = param(0.0, lo=0, hi=1,
+                                    meaning="rolling resistance of the grain contacts once the particle friction is "
+                                            "on (moment <= this x r_eff x F_n; 0 = none, the paper's recipe)")
     density: float = param(2650.0, unit="kg/m^3", lo=0, lo_open=True, meaning="grain density (paper 2650)")
     damping_ratio: float = param(0.2, lo=0, hi=1, hi_open=True,
                                  meaning="viscous normal damping, fraction of critical (not given in the paper)")
@@ -88,10 +93,18 @@ class SpecimenRecipe:
             raise InvalidParameter("d_min, d_max", f"{self.d_min:g}, {self.d_max:g}", "d_min <= d_max [m]")
 
 
-def contact_law(rec: SpecimenRecipe, mu: float, local: float, softening: float = 1.0) -> dem3d.ContactParams:
-    """The recipe's linear law; ``softening`` divides both stiffnesses (deposition only)."""
+def contact_law(rec: SpecimenRecipe, mu: float, local: float, softening: float = 1.0,
+                rolling: float = 0.0) -> dem3d.ContactParams:
+    """The recipe's linear law; ``softening`` divides both stiffnesses (deposition only),
+    ``rolling`` is the rolling-resistance coefficient (dem3d ``mu_roll``)."""
     return dem3d.linear(rec.kn / softening, rec.ks / softening, mu, zeta_n=rec.damping_ratio, zeta_s=0.0,
-                        local_damping=local)
+                        local_damping=local, mu_roll=rolling)
+
+
+def frictional_law(rec: SpecimenRecipe, local: float) -> dem3d.ContactParams:
+    """The recipe's law with its grains' own friction and rolling resistance (after
+    deposition): ``local`` is the PFC local damping."""
+    return contact_law(rec, rec.particle_friction, local, rolling=rec.rolling_friction)
 
 
 def time_step(rec: SpecimenRecipe, scale: float = 1.0) -> float:

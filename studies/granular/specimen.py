@@ -22,7 +22,7 @@ from analytic.errors import InvalidParameter
 from dem3d import measure
 
 from ..config import with_current_names
-from .recipe import SpecimenRecipe, contact_law, time_step
+from .recipe import SpecimenRecipe, contact_law, frictional_law, time_step
 from ..store import Store, content_key
 from ..progress import step_with_progress
 
@@ -85,8 +85,10 @@ PREPARATION_VERSION = 4
 
 def specimen_key(case: WallCase) -> str:
     """Hash of everything that shapes the settled specimen (not the movement)."""
-    return content_key({"specimen": dataclasses.asdict(case.specimen),
-                        # an unset optional field is left out, so adding one keeps older keys
+    # a field added later is left out at its no-op value (rolling_friction 0, a wall's unset
+    # option), so the keys of specimens made before it stay
+    recipe = {k: v for k, v in dataclasses.asdict(case.specimen).items() if not (k == "rolling_friction" and v == 0)}
+    return content_key({"specimen": recipe,
                         "wall": {k: v for k, v in dataclasses.asdict(case.wall).items() if v is not None},
                         "seed": case.seed, "procedure": PREPARATION_VERSION})
 
@@ -104,7 +106,7 @@ def prepare_specimen(case: WallCase, progress=None) -> Specimen:
     walls = box_walls(wall, rec)
     log = _StageLog()
     sim, steps = _rain_and_pack(spec, rec, wall, walls, gen_height, s * rec.d_max, dt, progress, log)
-    sim, more, res = _trim_and_stiffen(sim, rec, wall.height, walls, dt, log)
+    sim, more, res = _trim_and_stiffen(sim, rec, wall, walls, dt, log)
     steps += more
     if rec.rain_gravity != 1.0:
         more, res = _load_to_gravity(sim, rec, dt, log)
@@ -116,7 +118,7 @@ def _loose_fill(rec: SpecimenRecipe, wall: WallSetup, scale: float, rng) -> tupl
     """The bodies placed at random (the only draws from ``rng``) in L x w x gen_height,
     and gen_height [m]: tall enough for a solid fraction of 0.2, since random addition
     jams near 0.25-0.38. ``scale`` multiplies the recipe's diameters (``grain_scale``)."""
-    L, H, w = wall.backfill_length, wall.height, wall.width
+    L, H, w = wall.backfill_length, wall.rained_height, wall.width
     n_bodies = int(round(rec.particles / (1.0 + rec.clump_fraction)))
     for fraction in GENERATION_FRACTIONS:
         gen_height = (1.0 - rec.target_porosity) * H * OVERFILL / fraction
@@ -181,21 +183,21 @@ def _rain_and_pack(spec, rec: SpecimenRecipe, wall: WallSetup, walls: list, gen_
     return sim, steps
 
 
-def _trim_and_stiffen(sim, rec: SpecimenRecipe, H: float, walls: list, dt: float, log: _StageLog):
+def _trim_and_stiffen(sim, rec: SpecimenRecipe, wall: WallSetup, walls: list, dt: float, log: _StageLog):
     """Stage B: unload to the lock-in gravity ``rain_gravity`` (overlaps shrink), trim to
-    H [m] (drops the guard), settle at the paper's stiffness with the deposition friction,
+    the fill surface (drops the guard), settle at the paper's stiffness with the deposition friction,
     then with the particle friction. Returns (the new simulation, its steps counted
     here, the last settle result)."""
     g_low = G * rec.rain_gravity
     sim.gravity = np.array([0.0, 0.0, -g_low])
     steps = step_with_progress(sim, 2000, None, "")
     log.stages["in_front_of_wall"] = int(np.sum(sim.spheres.x[:, 0] < 0.0))   # removed by the trim; 0 with the guard
-    sim = _trim(sim, H, walls, rec, dt)      # paper stiffness, still the deposition friction
+    sim = _trim(sim, wall, walls, rec, dt)      # paper stiffness, still the deposition friction
     sim.gravity = np.array([0.0, 0.0, -g_low])
     res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(1.0 / dt), trace=log.trace)
     steps += res.steps
     log.stage("stiffen", res.steps)
-    sim.set_params(contact_law(rec, rec.particle_friction, rec.local_damping))
+    sim.set_params(frictional_law(rec, rec.local_damping))
     res = dem3d.settle(sim, ratio=rec.settle_ratio, check_every=500, max_steps=int(2.0 / dt), trace=log.trace)
     steps += res.steps
     log.stage("friction on", res.steps)
@@ -223,7 +225,7 @@ def _measure_at_rest(sim, rec: SpecimenRecipe, wall: WallSetup, scale: float, dt
     damping off (the wall sees the true static state): porosity of the middle 80 % of the
     box, K0 by eq. 6, resultant height / H, wall load [kN], stress ratio."""
     L, H, w = wall.backfill_length, wall.height, wall.width
-    sim.set_params(contact_law(rec, rec.particle_friction, 0.0))
+    sim.set_params(frictional_law(rec, 0.0))
     steps += step_with_progress(sim, 2000, None, "")
     f = dem3d.frame(sim)
     n = measure.porosity(sim, (0.1 * L, 0.0, 0.1 * H), (0.9 * L, w, 0.9 * H))
@@ -243,12 +245,14 @@ def _fill_height(sim) -> float:
     return float(np.percentile(x[:, 2] + r, 99.5))
 
 
-def _trim(sim, H: float, walls, rec: SpecimenRecipe, dt: float):
+def _trim(sim, wall: WallSetup, walls, rec: SpecimenRecipe, dt: float):
     """A new Simulation (paper stiffness, deposition friction, local damping) with
-    ``walls`` (no guard) and without the bodies that have any sphere centre above H or in
-    front of the wall (contact history restarts; the caller settles again)."""
+    ``walls`` (no guard) and without the bodies that have any sphere centre above the
+    fill surface (H, or the sloping plane) or in front of the wall (contact history
+    restarts; the caller settles again)."""
     sph = sim.spheres
-    above = (sph.x[:, 2] > H) | (sph.x[:, 0] < 0.0)     # and any grain that got in front of the wall
+    top = wall.surface_height(sph.x[:, 0])
+    above = (sph.x[:, 2] > top) | (sph.x[:, 0] < 0.0)     # and any grain that got in front of the wall
     body = sph.body_id
     drop = np.isin(body, np.unique(body[above]))
     keep = ~drop

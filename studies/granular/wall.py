@@ -1,7 +1,7 @@
 """A segmented retaining wall and the box of backfill behind it (``WallSetup``; the
 paper's 3.1 m wall of 6 segments by default), how the wall moves away from the fill
 (``Movement``: translation, rotation about the base or the top, or about a point above
-the top, to Delta/H), the grain scale a particle count needs to fill the box, and the
+the top, to Delta/H), a level or sloping fill surface, the grain scale a particle count needs to fill the box, and the
 checks and run length of a case made of a recipe, a wall and a movement.
 
 Geometry: wall face at x = 0 (normal +x, backfill at x > 0), floor z = 0, far wall at
@@ -52,9 +52,28 @@ class WallSetup:
     side_friction: float | None = param(
         None, lo=0, meaning="none: periodic along the width; a number: two side walls at y = 0 and y = w with this "
                             "friction (0 = the paper's smooth side walls)")
+    # steeper than 40 deg stands in no cohesionless fill the recipe makes (phi <= 45 at most)
+    surface_slope: float | None = param(
+        None, unit="deg", lo=-40, hi=40, meaning="none: a level fill at H; a number: the surface rises at this angle "
+                                                 "from the wall top away from the wall (the fill is rained higher and "
+                                                 "cut to it)")
 
     def __post_init__(self):
         check_fields(self)
+
+    @property
+    def rained_height(self) -> float:
+        """Height [m] the fill is rained to before it is cut: H, or for a sloping surface
+        its highest point (at the far wall when it rises, at the wall when it falls)."""
+        if self.surface_slope is None:
+            return self.height
+        return self.height + max(0.0, self.backfill_length * math.tan(math.radians(self.surface_slope)))
+
+    def surface_height(self, x):
+        """Height [m] of the fill surface at distance x [m] from the wall (H when level)."""
+        if self.surface_slope is None:
+            return self.height
+        return self.height + x * math.tan(math.radians(self.surface_slope))
 
 
 @dataclass(frozen=True)
@@ -113,7 +132,7 @@ def grain_scale(rec: SpecimenRecipe, wall: WallSetup) -> tuple[float, float]:
     a, b = rec.d_min, rec.d_max
     mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
     v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (CLUMP_VOLUME_FACTOR - 1.0))
-    solid_per_width = (1.0 - rec.target_porosity) * wall.backfill_length * wall.height * OVERFILL
+    solid_per_width = (1.0 - rec.target_porosity) * wall.backfill_length * wall.rained_height * OVERFILL
     s = (solid_per_width * wall.width / (n_bodies * v_body)) ** (1.0 / 3.0)
     min_width = MIN_CELLS * b
     if min_width * s <= wall.width:
@@ -172,7 +191,7 @@ def most_steps(case) -> tuple[float, float, float]:
     rec, wall = case.specimen, case.wall
     dt = time_step(rec, grain_scale(rec, wall)[0])
     dt_soft = dt * math.sqrt(rec.deposition_softening)
-    top = (1.0 - rec.target_porosity) * wall.height * OVERFILL / GENERATION_FRACTIONS[-1]
+    top = (1.0 - rec.target_porosity) * wall.rained_height * OVERFILL / GENERATION_FRACTIONS[-1]
     fall = 1.2 * math.sqrt(2.0 * top / (G * rec.deposition_gravity)) / dt_soft + 1.0 / dt_soft
     settle = (1.0 + 2.0 + 2.0) / dt + 2000 + 5000 + 2000
     return fall + settle, movement_duration(case.movement, wall.height) / dt, dt

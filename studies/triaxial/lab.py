@@ -49,7 +49,10 @@ def card_path(root, rec: SpecimenRecipe, seed: int):
     from pathlib import Path
     keys = ("clump_fraction", "clump_overlap", "d_min", "d_max", "kn", "ks", "particle_friction", "density",
             "deposition_friction", "damping_ratio")
-    key = content_key({k: getattr(rec, k) for k in keys}, length=12)
+    fields = {k: getattr(rec, k) for k in keys}
+    if rec.rolling_friction:        # absent at 0, so the cards made before it keep their names
+        fields["rolling_friction"] = rec.rolling_friction
+    key = content_key(fields, length=12)
     return Path(root) / "nadukuru" / "calibration" / f"triaxial-{key}.json"
 
 
