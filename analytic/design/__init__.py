@@ -8,12 +8,12 @@ own factor table. Units kN, kPa, m, degrees; forces per metre run.
 
 from .bearing import bearing_resistance, bearing_undrained
 from .case import DesignCase, Foundation, Loads, Method, Seismic, Water
-from .earth import Backfill, FillLayer, Thrust, ThrustPart, design_thrust
+from .earth import Backfill, FillLayer, MeasuredThrust, Thrust, ThrustPart, design_thrust
 from .factors import Factors, load_factors
 from .formats import FormatResult, factors_of_safety, verify
 from .walls import CantileverWall, GravityWall, WallBack
 
 __all__ = ["bearing_resistance", "bearing_undrained", "DesignCase", "Foundation", "Loads", "Method",
-           "Seismic", "Water", "Backfill", "FillLayer", "Thrust", "ThrustPart", "design_thrust", "Factors",
+           "Seismic", "Water", "Backfill", "FillLayer", "MeasuredThrust", "Thrust", "ThrustPart", "design_thrust", "Factors",
            "load_factors", "FormatResult", "factors_of_safety", "verify", "CantileverWall", "GravityWall",
            "WallBack"]

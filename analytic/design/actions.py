@@ -22,9 +22,9 @@ import math
 from dataclasses import dataclass, replace
 
 from .case import GAMMA_W, DesignCase, design_angle
-from .earth import Backfill, FillLayer, Thrust, design_thrust, passive_resistance
+from .earth import Backfill, FillLayer, Thrust, design_thrust, passive_resistance, with_measured
 from .geometry import area_centroid, clip_above
-from .walls import Part
+from .walls import Part, WallBack
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,22 @@ def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0
     """The thrust on the wall's virtual back ('rankine-virtual-back', or 'coulomb' /
     'ec7-annex-c' on a cantilever or polygon wall) or real back ('coulomb' or
     'ec7-annex-c' on a trapezoidal gravity wall), with the water table ``water.behind``."""
-    wall, fill, m = case.wall, design_backfill(case.backfill, materials), case.method
+    fill = design_backfill(case.backfill, materials)
+    back, delta = back_and_delta(case, fill)
+    thrust = design_thrust(fill, back, case.method.earth_pressure, q=case.loads.surcharge, delta=delta, kh=kh,
+                           kv=kv, increment_height=case.seismic.increment_height, water_level=case.water.behind,
+                           permeability=case.seismic.fill_permeability)
+    if case.measured_thrust is None:
+        return thrust
+    unfactored = {k: 1.0 for k in materials}
+    return with_measured(thrust, thrust_for(replace(case, measured_thrust=None), unfactored), case.measured_thrust)
+
+
+def back_and_delta(case: DesignCase, fill: Backfill) -> tuple[WallBack, float | None]:
+    """The back the thrust acts on and the wall friction angle on it [deg] by the file's
+    convention: ``method.wall_friction`` (at most phi on a real back), else 2/3 phi on a
+    real back and none on a virtual one (``design_thrust`` takes beta there)."""
+    wall, m = case.wall, case.method
     real = not uses_virtual_back(case)
     back = wall.real_back() if real else wall.virtual_back(fill.beta)
     delta = m.wall_friction
@@ -67,9 +82,7 @@ def thrust_for(case: DesignCase, materials: dict, kh: float = 0.0, kv: float = 0
         delta = 2.0 / 3.0 * fill.phi
     elif delta is not None and real:
         delta = min(delta, fill.phi)
-    return design_thrust(fill, back, m.earth_pressure, q=case.loads.surcharge, delta=delta, kh=kh, kv=kv,
-                         increment_height=case.seismic.increment_height, water_level=case.water.behind,
-                         permeability=case.seismic.fill_permeability)
+    return back, delta
 
 
 def uses_virtual_back(case: DesignCase) -> bool:

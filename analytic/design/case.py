@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from ..errors import InvalidParameter
 from ..inputs import MAX_PRESSURE_KPA, MAX_UNIT_WEIGHT_KN_M3, require_number
-from .earth import GAMMA_W, METHODS, Backfill
+from .earth import GAMMA_W, METHODS, Backfill, MeasuredThrust
 
 
 def require_bool(name: str, value) -> None:
@@ -168,7 +168,8 @@ MAX_BASE_OVER_HEIGHT = 10.0
 @dataclass(frozen=True)
 class DesignCase:
     """A wall (walls.py / blocks.py), its backfill (None: a block wall loaded by water
-    only), foundation and the rest."""
+    only), foundation and the rest; ``measured_thrust`` (none: classical) replaces the
+    computed soil and surcharge thrust (``earth.with_measured``)."""
 
     wall: object
     backfill: Backfill | None
@@ -177,6 +178,7 @@ class DesignCase:
     water: Water = Water()
     method: Method = Method()
     seismic: Seismic = NO_SEISMIC
+    measured_thrust: MeasuredThrust | None = None
 
     def __post_init__(self):
         kind = getattr(self.wall, "kind", "")

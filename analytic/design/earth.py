@@ -144,6 +144,58 @@ class Thrust:
         return math.fsum(p.Pv for p in self.parts)
 
 
+@dataclass(frozen=True)
+class MeasuredThrust:
+    """A characteristic thrust of the fill and its surcharge on the back measured rather
+    than computed (a DEM of the same back, ``studies.wall``): horizontal Ph (toward the
+    front) and vertical Pv (down) [kN/m], acting ``height`` [m] above the back's bottom;
+    ``source`` says where it came from."""
+
+    Ph: float
+    Pv: float
+    height: float
+    source: str = ""
+
+    def __post_init__(self):
+        require_number("measured_thrust.Ph", self.Ph, 0.0, None, lo_open=False, unit="kN/m")
+        require_number("measured_thrust.Pv", self.Pv, None, None, unit="kN/m")
+        require_number("measured_thrust.height", self.height, 0.0, None, lo_open=False, unit="m")
+
+
+def with_measured(design: Thrust, characteristic: Thrust, measured: MeasuredThrust) -> Thrust:
+    """``design`` with its soil and surcharge parts replaced by ``measured``: each part
+    carries its share of the characteristic classical thrust (``characteristic``, same
+    back, unfactored) times the measured thrust, times the factor the combination puts on
+    the classical thrust (design over characteristic Ph: a measured load keeps the margin
+    EN 1997-1 puts on phi), each moved by the same distance so that their characteristic
+    resultant acts at the measured height (the permanent and variable parts keep their
+    own factors and their spacing). Water and seismic parts stay."""
+    loads = ("soil", "surcharge")
+    back = design.back
+    char = {p.name: (p.Ph, p.y - back.y0) for p in characteristic.parts if p.kind in loads}
+    total_char = math.fsum(ph for ph, _ in char.values())
+    total_design = math.fsum(p.Ph for p in design.parts if p.kind in loads)
+    factor = total_design / total_char if total_char > 0 else 1.0
+    height_char = math.fsum(ph * h for ph, h in char.values()) / total_char if total_char > 0 else 0.0
+    shift = measured.height - height_char
+    parts = []
+    for p in design.parts:
+        if p.kind not in loads:
+            parts.append(p)
+            continue
+        ph, h = char[p.name]
+        share = ph / total_char if total_char > 0 else 0.0
+        Ph, Pv = factor * share * measured.Ph, factor * share * measured.Pv
+        x, y = back.point_at(back.y0 + min(max(h + shift, 0.0), back.height))
+        parts.append(ThrustPart(f"{p.name} (measured)", p.kind, math.hypot(Ph, Pv), Ph, Pv, x, y))
+    scale = measured.Ph / total_char if total_char > 0 else 1.0
+    note = (f"soil and surcharge thrust measured ({measured.source}): Ph {measured.Ph:.4g} kN/m, Pv "
+            f"{measured.Pv:.4g} kN/m at {measured.height:.4g} m, x {factor:.4g} (this combination's factor on the "
+            "classical thrust)")
+    return Thrust(design.method, design.K * scale, design.Kh * scale, design.direction, tuple(parts),
+                  notes=f"{design.notes}; {note}", back=back)
+
+
 def design_thrust(backfill: Backfill, back: WallBack, method: str, *, q: float = 0.0,
                   delta: float | None = None, kh: float = 0.0, kv: float = 0.0,
                   increment_height: float = 0.5, water_level: float = 0.0,
