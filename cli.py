@@ -348,6 +348,10 @@ def _add_option(p, opt) -> None:
     """A study option; a case key's flag defaults to "not given" so that only what the
     user typed overrides the config file (studies/study.py, precedence)."""
     kw = {"help": opt.help, "dest": opt.dest}
+    if not opt.flag.startswith("-"):          # a positional case key, e.g. WALL.toml
+        p.add_argument(opt.dest, help=opt.help, metavar=opt.metavar, nargs="?",
+                       type=_argparse_type(opt.parse, opt.dest) if opt.parse else None, default=argparse.SUPPRESS)
+        return
     if opt.switch:
         kw["action"] = "store_true"
     else:

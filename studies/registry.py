@@ -8,7 +8,7 @@ from importlib import import_module
 
 from analytic.errors import InvalidParameter
 
-NAMES = ("nadukuru", "khosravi", "triaxial", "biaxial", "cantilever", "heap", "drystone", "tilt", "seismic", "gravel")
+NAMES = ("nadukuru", "khosravi", "triaxial", "biaxial", "cantilever", "heap", "drystone", "tilt", "seismic", "gravel", "wall")
 
 
 def get(name: str):

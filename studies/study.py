@@ -28,7 +28,8 @@ from .registry import NAMES
 class Option:
     """One command-line flag.
 
-    flag:     as typed, e.g. ``--particles``
+    flag:     as typed, e.g. ``--particles``; a name without dashes is a positional
+              argument (optional: a case key, e.g. ``wall_file``)
     help:     one line with the unit and the default in brackets/parentheses
     key:      the dotted case key it sets; None for a run option (output, recording, ...)
     parse:    text -> value, raising ``InvalidParameter`` (or argparse's type error)

@@ -196,7 +196,8 @@ def test_viz_names_no_study():
     is a study's (each study draws its own figures and lays out its own recording from
     viz's generic pieces)."""
     from studies import NAMES
-    words = set(NAMES) | {"drystone", "sizkow", "oetomo"}
+    # "wall" names a study and the thing every study draws: viz may say wall, not import it
+    words = (set(NAMES) - {"wall"}) | {"drystone", "sizkow", "oetomo"}
     named = []
     for p in _sources("viz"):
         tree = ast.parse(p.read_text())
