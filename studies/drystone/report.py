@@ -9,16 +9,31 @@ from ..report import check, checks_markdown
 from ..store import atomic_write
 from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT
 
-DEFAULT_GEOMETRY_WHY = (
-    "The default geometry is the **back-fit** of reference 2.3 (base widths fitted with the section-5 "
-    "limit-equilibrium reconstruction so that each wall fails at its measured water height, gamma_m 20 kN/m3). "
-    "Why: with the **disk-count** sections of reference 6 (about 1.6 times thicker) every wall stands with water "
-    "at its crest, by limit equilibrium and by DEM alike, whereas all five walls failed on site below the crest; "
-    "those sections also contradict the paper's statement that V5S (about 7 t/m) is the heaviest wall. "
-    "The price: with back-fitted widths the agreement between DEM and site is **partly by construction** (the "
-    "widths were chosen to make the limit equilibrium match the site). What the DEM tests independently is "
-    "whether a wall of discrete rigid blocks fails where, and how, the rigid-block limit equilibrium says, "
-    "with no parameter tuned per wall.")
+def default_geometry_why() -> str:
+    """Why the back-fit geometry is the default, with V5S's weight in both geometries
+    computed from the sections the cases build (the paper: "approximately 7 ton/m")."""
+    w = {g: v5s_weight_t_per_m(g) for g in ("back-fit", "disk-count")}
+    return (
+        "The default geometry is the **back-fit** of reference 2.3 (base widths fitted with the section-5 "
+        "limit-equilibrium reconstruction so that each wall fails at its measured water height, gamma_m 20 kN/m3). "
+        "Why: with the **disk-count** sections of reference 6 (about 1.6 times thicker) every wall stands with water "
+        "at its crest, by limit equilibrium and by DEM alike, whereas all five walls failed on site below the crest. "
+        f"The paper's V5S weight, \"approximately 7 ton/m\", fits neither geometry (V5S weighs {w['back-fit']:.1f} t/m "
+        f"back-fitted and {w['disk-count']:.1f} t/m disk-counted at 20 kN/m3), so it does not decide between them. "
+        "The price: with back-fitted widths the agreement between DEM and site is **partly by construction** (the "
+        "widths were chosen to make the limit equilibrium match the site). What the DEM tests independently is "
+        "whether a wall of discrete rigid blocks fails where, and how, the rigid-block limit equilibrium says, "
+        "with no parameter tuned per wall.")
+
+
+def v5s_weight_t_per_m(geometry: str) -> float:
+    """Weight of wall V5S [t/m] in ``geometry`` at the default unit weight (trapezoid area x gamma_m / g)."""
+    from analytic.constants import G
+
+    from .case import DrystoneCase
+    case = DrystoneCase(wall="V5S", geometry=geometry)
+    s = case.section()
+    return 0.5 * (s.base_width_m + s.crest_width_m) * s.height_m * case.unit_weight_kN_m3 / G
 
 
 def _f(x, fmt=".3f", none="stands to crest"):
@@ -287,7 +302,7 @@ def case_b_lines(b: dict) -> list[str]:
             *[f"- {w} seed {seed}: [thrust vs backfill height, with Coulomb](drystone/{w}_seed{seed}_thrust.png), "
               f"[mechanism at failure](drystone/{w}_seed{seed}_mechanism.png)"
               for w, seeds in walls.items() for seed, e in seeds.items() if e != "not run"], "",
-            *([f"Rerun recordings (blocks, grains, force chains, block velocities at failure; not committed): "
+            *(["Rerun recordings (blocks, grains, force chains, block velocities at failure; not committed): "
                + ", ".join(f"`{r}`" for r in recordings), ""] if recordings else [])]
 
 
@@ -325,7 +340,7 @@ def case_a_lines(rep: dict) -> list[str]:
              f"dt {s['dt_s']:g} s, {s['iterations']} sweeps, collision slop {s['collision_slop_m']:g} m, friction "
              f"tan(phi_b) on every joint (pair value; pymunk's product rule accounted for), water raised by {100 * s['increment_fraction']:g} % of h per "
              f"increment, pressure normal to the current face ({s['water_direction']}). **{rep['note']}.**", "",
-             "## Geometry: what is assumed", "", DEFAULT_GEOMETRY_WHY, "",
+             "## Geometry: what is assumed", "", default_geometry_why(), "",
              "Assumed or derived in every wall (each output repeats its own list): base and crest widths, "
              "unit weight 20 kN/m3 (18-22 plausible), vertical inner face, joint counter-slope 0 for the "
              "limestone walls (0-8.5 deg plausible; V5S 8.53 deg found), V4L's batter 7.5 deg, batters read in "

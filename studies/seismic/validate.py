@@ -266,6 +266,21 @@ ASSUMPTIONS = ("Assumed, not from the paper (reference.json, tag A): the contact
                "gives ~18-19 deg and the wall then fails statically.")
 
 
+#: the paper's free-field column: 9 m of soil ringing at 5.8 Hz, Vs 210 m/s
+PAPER_COLUMN = {"height_m": 9.0, "f0_Hz": 5.8, "Vs_m_per_s": 210.0}
+
+
+def _paper_column(height_m: float) -> str:
+    """The paper's column beside ours: its f0 where the heights agree, else the f0 its Vs
+    gives a column of our height (f0 = Vs / 4 H): frequencies of columns of different
+    heights are not comparable, the soil's Vs is."""
+    p = PAPER_COLUMN
+    if abs(height_m - p["height_m"]) < 1e-9:
+        return f"paper, {p['height_m']:g} m column: {p['f0_Hz']:g} Hz, {p['Vs_m_per_s']:g} m/s"
+    return (f"paper: Vs {p['Vs_m_per_s']:g} m/s, so a {height_m:g} m column at {p['Vs_m_per_s'] / (4 * height_m):.2f} "
+            f"Hz; its {p['height_m']:g} m column rang at {p['f0_Hz']:g} Hz")
+
+
 def material_lines(mat: dict) -> list[str]:
     """The material checks (benchmarks/seismic_material.py) as report lines."""
     out = ["## Material (measured, docs/validation/seismic_material.json)", ""]
@@ -273,7 +288,7 @@ def material_lines(mat: dict) -> list[str]:
         c = mat.get(f"column_{name}")
         if c:
             out.append(f"- free-field column {name} ({c['height_m_prototype']:g} m): f0 {c['f0_Hz_prototype']:.2f} Hz, "
-                       f"Vs = 4 H f0 = {c['Vs_from_f0_m_per_s']:.0f} m/s (paper, 9 m column: 5.8 Hz, 210 m/s)")
+                       f"Vs = 4 H f0 = {c['Vs_from_f0_m_per_s']:.0f} m/s ({_paper_column(c['height_m_prototype'])})")
     for t in mat.get("triaxial", []):
         out.append(f"- triaxial {t['confining_kPa']:g} kPa, friction {t['friction']:g}, mu_r "
                    f"{t.get('rolling_resistance', 0):g}: peak phi {t['phi_peak_deg']:.1f} deg, end "
