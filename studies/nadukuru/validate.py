@@ -30,8 +30,10 @@ import reproducibility
 from analytic.constants import G
 
 from ..granular.wall import MODES, WallSetup
-from .case import NadukuruCase, paper_values, rough_or_smooth
+from .case import REFERENCE, NadukuruCase, paper_values, rough_or_smooth
 from .compare import theory_rows
+from .scorecard import scorecard_rows
+from ..scorecard import scorecard_json, scorecard_markdown
 from ..granular.movement import run_modes
 from ..granular.specimen import load_or_prepare
 from ..config import with_current_names
@@ -284,11 +286,24 @@ def _write_report(report: dict, out_dir: Path) -> dict:
     """Merge with the previous ``nadukuru.json`` (``_keep_other_walls``), write it and
     ``nadukuru.md`` (with the hand-written discussion, if any). Returns the merged report."""
     report = _keep_other_walls(report, out_dir / "nadukuru.json")
+    report["scorecard"] = scorecard(report, out_dir)
     atomic_write(out_dir / "nadukuru.json", (json.dumps(to_plain(report), indent=1) + "\n").encode())
     notes = out_dir / "nadukuru_discussion.md"
     atomic_write(out_dir / "nadukuru.md", markdown(report, notes.read_text() if notes.exists() else None,
                                                    out_dir).encode())
     return report
+
+
+#: supporting files of the report that statements of the scorecard read (``kind`` spread)
+SUPPORTING = ("nadukuru_rt_checks.json",)
+
+
+def scorecard(report: dict, out_dir: Path) -> dict:
+    """The scorecard of ``report`` (``studies.nadukuru.scorecard``), with the supporting
+    files found in ``out_dir``."""
+    supporting = {name: json.loads((out_dir / name).read_text()) for name in SUPPORTING
+                  if (out_dir / name).is_file()}
+    return scorecard_json(scorecard_rows(report, REFERENCE, supporting))
 
 
 def _keep_other_walls(report: dict, previous: Path) -> dict:
@@ -329,6 +344,8 @@ def markdown(rep: dict, discussion: str | None = None, figures_dir: Path | None 
     figures are linked when they exist in ``figures_dir``."""
     rep = with_current_names(rep)       # a report written before the glossary reads too
     L = _markdown_head(rep)
+    if "scorecard" in rep:
+        L[4:4] = scorecard_markdown(rep["scorecard"], "Scorecard: every statement of the paper")
     for wall, e in rep["walls"].items():
         L += _markdown_wall(wall, e, rep["git"], figures_dir)
     if discussion:

@@ -1,0 +1,153 @@
+"""Nadukuru & Michalowski's statements scored against a validation report
+(``docs/validation/nadukuru.json``): the rows of the report's scorecard
+(``studies.scorecard``). The statements, their place in the paper, values and
+tolerances are in reference.json (``statements``); here only how ours is read."""
+
+from __future__ import annotations
+
+from ..config import with_current_names
+from ..scorecard import Row, number_verdict, trend_verdict
+
+WALLS = ("rough", "smooth")
+
+
+def scorecard_rows(rep: dict, ref: dict, supporting: dict | None = None) -> list[Row]:
+    """Every statement of ``ref['statements']`` scored on the report ``rep``;
+    ``supporting``: the report's supporting JSON files by name (a statement of kind
+    ``spread`` reads its runs there)."""
+    rep = with_current_names(rep) | {"_supporting": with_current_names(supporting or {})}
+    return [_ROWS[s["kind"]](s, rep, ref) for s in ref["statements"]]
+
+
+def _table_value(s: dict, rep: dict, ref: dict) -> Row:
+    """A value of Tables 1-2: K or h/H of one wall and mode."""
+    wall, mode, key = s["wall"], s["mode"], s["key"]
+    row = rep["walls"].get(wall, {}).get("modes", {}).get(mode)
+    ours = None if row is None else row[key]
+    paper = ref[wall][mode][key]
+    tol = ref["targets"]["K_abs_tol" if key == "K" else "resultant_height_over_H_abs_tol"]
+    return Row(s["statement"], s["where"], f"{paper:g}", "" if ours is None else f"{ours:.3f}", f"+-{tol:g}",
+               number_verdict(ours, paper, tol), s.get("agreement", "independent"), s.get("note", ""))
+
+
+def _specimen_value(s: dict, rep: dict, ref: dict) -> Row:
+    """An at-rest figure of the specimen, on each wall (the worse of the two decides)."""
+    key, paper, tol = s["key"], s["paper"], s["tolerance"]
+    values = {w: rep["walls"][w]["specimen"][key] for w in WALLS if w in rep["walls"]}
+    worst = max(values.values(), key=lambda v: abs(v - paper)) if values else None
+    ours = ", ".join(f"{w} {v:.3f}" for w, v in values.items())
+    return Row(s["statement"], s["where"], f"{paper:g}", ours, f"+-{tol:g}", number_verdict(worst, paper, tol),
+               s.get("agreement", "independent"), s.get("note", ""))
+
+
+def _triaxial(s: dict, rep: dict, ref: dict) -> Row:
+    tri = rep.get("triaxial")
+    ours = None if tri is None else tri["phi_peak_deg"]
+    paper, tol = s["paper"], s["tolerance"]
+    return Row(s["statement"], s["where"], f"{paper:g} deg", "" if ours is None else f"{ours:.1f} deg",
+               f"+-{tol:g} deg", number_verdict(ours, paper, tol), s.get("agreement", "independent"),
+               s.get("note", ""))
+
+
+def _ordering(s: dict, rep: dict, ref: dict) -> Row:
+    """A stated order of one quantity over modes, on the walls named: ``order`` lists
+    the modes from lowest to highest (``lowest`` / ``highest``: only that end counts)."""
+    holds, shown = [], []
+    for wall in s["walls"]:
+        modes = rep["walls"].get(wall, {}).get("modes", {})
+        vals = {m: modes[m][s["key"]] for m in s["modes"] if m in modes}
+        if len(vals) < len(s["modes"]):
+            holds.append(None)
+            continue
+        shown.append(f"{wall}: " + ", ".join(f"{m} {v:.3f}" for m, v in vals.items()))
+        if s["order"] == "lowest":
+            holds.append(min(vals, key=vals.get) == s["modes"][0])
+        elif s["order"] == "highest":
+            holds.append(max(vals, key=vals.get) == s["modes"][0])
+        else:
+            holds.append(all(vals[a] < vals[b] for a, b in zip(s["modes"], s["modes"][1:])))
+    verdict = trend_verdict(None if None in holds or not holds else all(holds))
+    return Row(s["statement"], s["where"], s["paper"], "; ".join(shown), s.get("tolerance", "the order"), verdict,
+               s.get("agreement", "independent"), s.get("note", ""))
+
+
+def _close(s: dict, rep: dict, ref: dict) -> Row:
+    """Two modes' values within ``tolerance`` of each other on one wall."""
+    modes = rep["walls"].get(s["wall"], {}).get("modes", {})
+    a, b = (modes.get(m, {}).get(s["key"]) for m in s["modes"])
+    holds = None if a is None or b is None else abs(a - b) <= s["tolerance"]
+    ours = "" if holds is None else f"{s['modes'][0]} {a:.3f}, {s['modes'][1]} {b:.3f}"
+    return Row(s["statement"], s["where"], s["paper"], ours, f"within {s['tolerance']:g}", trend_verdict(holds),
+               s.get("agreement", "independent"), s.get("note", ""))
+
+
+def _steady(s: dict, rep: dict, ref: dict) -> Row:
+    """Delta/H by which the load is steady, against the paper's value (a factor of
+    ``tolerance`` either way: the paper says 'approximately' of a curve read by eye), or
+    'not yet at 0.008' (``paper`` None: ours must not be steady before 0.008)."""
+    wall = s["wall"]
+    modes = rep["walls"].get(wall, {}).get("modes", {})
+    got = {m: modes[m]["wall_disp_over_H_steady"] for m in s["modes"] if m in modes}
+    if len(got) < len(s["modes"]):
+        return Row(s["statement"], s["where"], s["paper_text"], "", "", "not reproduced",
+                   s.get("agreement", "independent"), s.get("note", ""))
+    ours = ", ".join(f"{m} {v:.4f}" for m, v in got.items())
+    if s.get("paper") is None:
+        holds = all(v >= s["limit"] for v in got.values())
+        tol = f"not steady before {s['limit']:g}"
+    else:
+        f = s["tolerance"]
+        holds = all(s["paper"] / f <= v <= s["paper"] * f for v in got.values())
+        tol = f"{s['paper'] / f:.4g}-{s['paper'] * f:.4g}"
+    return Row(s["statement"], s["where"], s["paper_text"], ours, tol, trend_verdict(holds),
+               s.get("agreement", "independent"), s.get("note", ""))
+
+
+def _steady_before(s: dict, rep: dict, ref: dict) -> Row:
+    """On one wall, the first modes of ``modes`` reach their steady load before the last."""
+    modes = rep["walls"].get(s["wall"], {}).get("modes", {})
+    got = {m: modes[m]["wall_disp_over_H_steady"] for m in s["modes"] if m in modes}
+    if len(got) < len(s["modes"]):
+        return _not_run(s, rep, ref)
+    *first, last = s["modes"]
+    holds = all(got[m] < got[last] for m in first)
+    return Row(s["statement"], s["where"], s["paper_text"], ", ".join(f"{m} {v:.4f}" for m, v in got.items()),
+               "the order", trend_verdict(holds), s.get("agreement", "independent"), s.get("note", ""))
+
+
+def _rough_below_smooth(s: dict, rep: dict, ref: dict) -> Row:
+    """For each mode of ``modes``, the rough wall's K below the smooth wall's."""
+    r, sm = (rep["walls"].get(w, {}).get("modes", {}) for w in WALLS)
+    pairs = {m: (r[m]["K"], sm[m]["K"]) for m in s["modes"] if m in r and m in sm}
+    if len(pairs) < len(s["modes"]):
+        return _not_run(s, rep, ref)
+    holds = all(a < b for a, b in pairs.values())
+    ours = "; ".join(f"{m} {a:.3f} < {b:.3f}" if a < b else f"{m} {a:.3f} >= {b:.3f}" for m, (a, b) in pairs.items())
+    return Row(s["statement"], s["where"], s["paper_text"], ours, "the order", trend_verdict(holds),
+               s.get("agreement", "independent"), s.get("note", ""))
+
+
+def _spread(s: dict, rep: dict, ref: dict) -> Row:
+    """A quantity that should not depend on a setting: its values over runs of a
+    supporting file (``file``, ``runs``) spread by at most ``tolerance``."""
+    data = rep["_supporting"].get(s["file"])
+    if data is None:
+        return _not_run(s, rep, ref)
+    runs = data["runs"]
+    vals = [runs[name][s["key"]] if name in runs else data["baseline"][s["mode"]][s["key"]] for name in s["runs"]]
+    spread = max(vals) - min(vals)
+    ours = " -> ".join(f"{v:.3f}" for v in vals) + f" (spread {spread:.3f})"
+    return Row(s["statement"], s["where"], s["paper_text"], ours, f"spread <= {s['tolerance']:g}",
+               trend_verdict(spread <= s["tolerance"] + 1e-12), s.get("agreement", "independent"),
+               s.get("note", ""))
+
+
+def _not_run(s: dict, rep: dict, ref: dict) -> Row:
+    """A statement no run of the report tests."""
+    return Row(s["statement"], s["where"], s["paper_text"], "", s.get("tolerance", ""), "not reproduced",
+               s.get("agreement", "independent"), s.get("note", ""))
+
+
+_ROWS = {"table": _table_value, "specimen": _specimen_value, "triaxial": _triaxial, "order": _ordering,
+         "close": _close, "steady": _steady, "steady_before": _steady_before, "rough_below_smooth": _rough_below_smooth,
+         "spread": _spread, "not_run": _not_run}
