@@ -32,7 +32,14 @@ def _nadukuru_card_from_data():
     return rep["scorecard"], scorecard_json(scorecard_rows(rep, REFERENCE, supporting))
 
 
-REPORTS = {"nadukuru": _nadukuru_card_from_data}
+def _drystone_card_from_data():
+    from studies.drystone.case import reference
+    from studies.drystone.scorecard import scorecard_rows
+    rep = json.loads((DOCS / "drystone.json").read_text())
+    return rep["scorecard"], scorecard_json(scorecard_rows(rep, reference()))
+
+
+REPORTS = {"nadukuru": _nadukuru_card_from_data, "drystone": _drystone_card_from_data}
 
 
 @pytest.mark.parametrize("study", sorted(REPORTS))

@@ -307,7 +307,13 @@ def case_b_lines(b: dict) -> list[str]:
 
 
 def write_report(rep: dict, out_dir: Path) -> Path:
-    """drystone.md: case A (``rep["walls"]``) and, when validated, case B (``rep["case_b"]``)."""
+    """drystone.md: the scorecard (also put in ``rep["scorecard"]`` for drystone.json),
+    case A (``rep["walls"]``) and, when validated, case B (``rep["case_b"]``)."""
+    from ..scorecard import scorecard_json, scorecard_markdown
+    from .case import reference
+    from .scorecard import scorecard_rows
+
+    rep["scorecard"] = scorecard_json(scorecard_rows(rep, reference()))
     lines = case_a_lines(rep) if "walls" in rep else \
         ["# Dry-stone retaining walls", "", "Case A not validated yet: `wallsim validate drystone --case A`.", ""]
     discussion = out_dir / "drystone_discussion.md"
@@ -321,6 +327,7 @@ def write_report(rep: dict, out_dir: Path) -> Path:
         discussion_b = out_dir / "drystone_caseb_discussion.md"
         if discussion_b.is_file():
             lines += [discussion_b.read_text().rstrip(), ""]
+    lines[2:2] = scorecard_markdown(rep["scorecard"], "Scorecard: every statement of Tables 3 and 4")
     path = out_dir / "drystone.md"
     atomic_write(path, "\n".join(lines).encode())
     return path

@@ -1,0 +1,81 @@
+"""Oetomo et al.'s dry-stone statements scored against the validation report
+(``docs/validation/drystone.json``): Table 3 (case A: Villemus's five walls loaded by
+water, the site's critical height and mode and the paper's DEM) and Table 4 (case B:
+Colas's three walls under gravel, the site's and the paper's two DEM realisations),
+each wall's values in reference.json; the rows of the report's scorecard
+(``studies.scorecard``)."""
+
+from __future__ import annotations
+
+from ..scorecard import Row, number_verdict, trend_verdict
+
+BACK_FIT = ("partly by construction: base widths back-fitted so that the limit equilibrium fails at the "
+            "measured height")
+
+
+def scorecard_rows(rep: dict, ref: dict) -> list[Row]:
+    tol = ref["tolerances"]["critical_height_vs_measured_percent"] / 100.0
+    rows = []
+    for wall, w in ref["walls"].items():
+        rows += _case_a(wall, w, rep.get("walls", {}).get(wall), tol)
+    for wall, w in ref["walls_b"].items():
+        rows += _case_b(wall, w, rep.get("case_b", {}).get("walls", {}).get(wall, {}), tol)
+    return rows
+
+
+def _height_row(statement: str, where: str, ours: float | None, paper: float, tol: float,
+                scatter: tuple[float, float] | None, agreement: str, ours_text: str | None = None) -> Row:
+    text = ours_text if ours_text is not None else ("" if ours is None else f"{ours:.3f} m")
+    return Row(statement, where, f"{paper:g} m", text, f"+-{100 * tol:g} %",
+               number_verdict(ours, paper, tol * paper, scatter), agreement)
+
+
+def _modes_agree(ours: str, paper: str) -> bool:
+    """'sliding/toppling' on site accepts either."""
+    return ours in paper.split("/")
+
+
+def _case_a(wall: str, w: dict, run: dict | None, tol: float) -> list[Row]:
+    site, site_mode = w["measured_height_m"]["value"], w["measured_mode"]["value"]
+    dem, dem_mode = w["paper_dem_height_m"]["value"], w["paper_dem_mode"]["value"]
+    h = None if run is None else run["critical_height_m"]
+    mode = None if run is None else run["mode"]
+    scatter = (min(site, dem), max(site, dem))
+    return [
+        _height_row(f"case A, {wall}: critical water height on site", "Table 3 (Villemus)", h, site, tol, scatter,
+                    BACK_FIT),
+        Row(f"case A, {wall}: failure mode on site", "Table 3 (Villemus)", site_mode, mode or "", "the same mode",
+            trend_verdict(None if mode is None else _modes_agree(mode, site_mode))),
+        _height_row(f"case A, {wall}: the paper's DEM critical height", "Table 3", h, dem, tol, scatter,
+                    "independent"),
+        Row(f"case A, {wall}: the paper's DEM failure mode", "Table 3", dem_mode, mode or "", "the same mode",
+            trend_verdict(None if mode is None else _modes_agree(mode, dem_mode))),
+    ]
+
+
+def _case_b(wall: str, w: dict, seeds: dict, tol: float) -> list[Row]:
+    site, site_mode = w["measured_height_m"]["value"], w["measured_mode"]["value"]
+    dems = w["paper_dem_heights_m"]["value"]
+    dem_mode = w["paper_dem_mode"]["value"]
+    runs = {s: r for s, r in seeds.items() if isinstance(r, dict) and "critical_height_m" in r}
+    heights = [r["critical_height_m"] for r in runs.values()]
+    modes = [r["mode"] for r in runs.values()]
+    text = ", ".join(f"seed {s} {r['critical_height_m']:.2f} m {r['mode']}" for s, r in runs.items())
+    scatter = (min(dems + [site]), max(dems + [site]))
+
+    def worst(target: float) -> float | None:
+        return max(heights, key=lambda x: abs(x - target)) if heights else None
+
+    dem_mean = sum(dems) / len(dems)
+    return [
+        _height_row(f"case B, {wall}: critical backfill height on site", "Table 4 (Colas)", worst(site), site, tol,
+                    scatter, "independent", text),
+        Row(f"case B, {wall}: failure mode on site", "Table 4 (Colas)", site_mode, ", ".join(modes),
+            "the same mode, every seed",
+            trend_verdict(None if not modes else all(_modes_agree(m, site_mode) for m in modes))),
+        _height_row(f"case B, {wall}: the paper's DEM critical height (mean of its two)", "Table 4", worst(dem_mean),
+                    dem_mean, tol, scatter, "independent", text),
+        Row(f"case B, {wall}: the paper's DEM failure mode", "Table 4", dem_mode, ", ".join(modes),
+            "the same mode, every seed",
+            trend_verdict(None if not modes else all(_modes_agree(m, dem_mode) for m in modes))),
+    ]
