@@ -39,7 +39,14 @@ def _drystone_card_from_data():
     return rep["scorecard"], scorecard_json(scorecard_rows(rep, reference()))
 
 
-REPORTS = {"nadukuru": _nadukuru_card_from_data, "drystone": _drystone_card_from_data}
+def _seismic_card_from_data():
+    from studies.seismic.validate import scorecard
+    rep = json.loads((DOCS / "seismic.json").read_text())
+    return rep["scorecard"], scorecard(rep)
+
+
+REPORTS = {"nadukuru": _nadukuru_card_from_data, "drystone": _drystone_card_from_data,
+           "seismic": _seismic_card_from_data}
 
 
 @pytest.mark.parametrize("study", sorted(REPORTS))
