@@ -45,8 +45,15 @@ def _seismic_card_from_data():
     return rep["scorecard"], scorecard(rep)
 
 
+def _khosravi_card_from_data():
+    from studies.khosravi.report import scorecard
+    rep = json.loads((DOCS / "khosravi.json").read_text())
+    ref = json.loads((Path(__file__).resolve().parents[1] / "studies" / "khosravi" / "reference.json").read_text())
+    return rep["scorecard"], scorecard(rep, ref)
+
+
 REPORTS = {"nadukuru": _nadukuru_card_from_data, "drystone": _drystone_card_from_data,
-           "seismic": _seismic_card_from_data}
+           "seismic": _seismic_card_from_data, "khosravi": _khosravi_card_from_data}
 
 
 @pytest.mark.parametrize("study", sorted(REPORTS))

@@ -1,0 +1,135 @@
+"""Khosravi et al.'s statements scored against the validation report
+(``docs/validation/khosravi.json``) and the biaxial card the report's phi came from:
+Table 1, the biaxial test of section 2, the at-rest and active profiles, thrusts and
+displacements of section 4 and its conclusions, and the same at the paper's other wall
+heights (``other_heights``); the rows of the report's scorecard (``studies.scorecard``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..scorecard import Row, number_verdict, trend_verdict
+
+CALIBRATED = "partly by construction: the grain friction was calibrated to this angle (biaxial card)"
+
+
+def scorecard_rows(rep: dict, ref: dict, card: dict | None) -> list[Row]:
+    res = rep["result"]
+    d = res["dem"]
+    test = _card_test(card, res["friction"], d["phi_biaxial"])
+    return (_material_rows(res, ref, test) + _at_rest_rows(res, ref) + _active_rows(res, ref, test)
+            + _height_rows(rep.get("other_heights", {}), ref))
+
+
+def _card_test(card: dict | None, friction: float, phi: float) -> dict | None:
+    """The biaxial test of the card at the report's grain friction, if it is the one
+    that gave the report its phi (the same peak angle)."""
+    if card is None:
+        return None
+    return next((t for t in card.get("tests", []) if abs(t["friction"] - friction) < 1e-9
+                 and abs(t["phi_peak_deg"] - phi) < 1e-9), None)
+
+
+def _material_rows(res: dict, ref: dict, test: dict | None) -> list[Row]:
+    mat, bx = ref["material"], ref["biaxial"]
+    d = res["dem"]
+    band = None if test is None else test.get("band_angle_deg")
+    eps_cs = None if test is None else test.get("eps_cs")
+    lo, hi = bx["critical_state_axial_strain"]
+    return [
+        Row("porosity of the backfill", "Table 1", f"{mat['porosity']:g}", f"{res['porosity']:.3f}", "+-0.01",
+            number_verdict(res["porosity"], mat["porosity"], 0.01), note="ours: the pluviated specimen"),
+        Row("friction angle of the backfill", "Table 1", f"{mat['phi_deg']:g} deg",
+            f"{d['phi_biaxial']:.2f} deg (biaxial peak)", "+-1.5 deg",
+            number_verdict(d["phi_biaxial"], mat["phi_deg"], 1.5), CALIBRATED),
+        Row("biaxial test: axial strain at the critical state", "section 2, Figs. 2-4", f"{lo:g}-{hi:g}",
+            "" if eps_cs is None else f"{eps_cs:.4f}", "the paper's range",
+            number_verdict(eps_cs, 0.5 * (lo + hi), 0.5 * (hi - lo))),
+        Row("biaxial test: shear band angle", "section 2, Fig. 4", f"{bx['shear_band_angle_deg']:g} deg",
+            "" if band is None else f"{band:g} deg", "+-3 deg",
+            number_verdict(band, bx["shear_band_angle_deg"], 3.0)),
+    ]
+
+
+def _at_rest_rows(res: dict, ref: dict) -> list[Row]:
+    d, r = res["dem"], res["readings"]
+    tol = ref["targets"]["K_at_rest_upper_half_vs_jaky_rel_tol"]
+    z, p = np.array(r["depth_over_H"]), np.array(r["at_rest_over_gammaH"])
+    lower = (z > 0.5) & (z < 0.9)            # below mid-height, above the bottom corner's local arching
+    above = bool(np.all(p[lower] > d["jaky_K0"] * z[lower])) if lower.any() else None
+    return [
+        Row("at rest: close to Jaky in the upper part", "section 4, Fig. 10", "K ~ 1 - sin(phi)",
+            f"K {d['K_at_rest_upper_half']:.3f} vs {d['jaky_K0']:.3f}", f"+-{100 * tol:g} %",
+            number_verdict(d["K_at_rest_upper_half"], d["jaky_K0"], tol * d["jaky_K0"])),
+        Row("at rest: above Jaky in the lower part", "section 4, Fig. 10", "above Jaky",
+            ", ".join(f"{zz:.2f} H: {pp / zz:.2f}" for zz, pp in zip(z[lower], p[lower])) + f" (Jaky {d['jaky_K0']:.2f})",
+            "every reading 0.5-0.9 H", trend_verdict(above), note="K of each reading, sigma_h / (gamma z)"),
+        Row("at rest: reduced at the bottom corner (PS0) by local arching", "section 4, Fig. 10", "reduced",
+            f"PS0 / straight line {d['PS0_at_rest_over_linear_trend']:.2f}", "below 1",
+            trend_verdict(d["PS0_at_rest_over_linear_trend"] < 1.0)),
+    ]
+
+
+def _active_rows(res: dict, ref: dict, test: dict | None) -> list[Row]:
+    d = res["dem"]
+    lo, hi = ref["results"]["sharp_drop_until_dis_over_H"]
+    steady = d["wall_disp_over_H_steady"]
+    ratios = res["theory_thrust_over_dem_active"]
+    eps_cs = None if test is None else test.get("eps_cs")
+    moment = _moment_ratio(res)
+    return [
+        Row("the pressure drops sharply until Dis/H 0.0002-0.0005, then is steady", "section 4, Fig. 12",
+            f"{lo:g}-{hi:g}", f"90 % of the drop by {steady:.4f}", "the paper's range",
+            number_verdict(steady, 0.5 * (lo + hi), 0.5 * (hi - lo))),
+        Row("the active wall movement is about the biaxial critical-state strain", "Conclusions",
+            "Dis/H ~ critical-state axial strain", "" if eps_cs is None else f"{steady:.4f} vs {eps_cs:.4f}",
+            "within a factor of 2", trend_verdict(None if eps_cs is None else 0.5 <= steady / eps_cs <= 2.0),
+            note="the paper's main conclusion"),
+        Row("every theory overestimates the total active thrust", "section 4, Fig. 13", "theory / DEM > 1",
+            ", ".join(f"{k} {v:.2f}" for k, v in ratios.items()), "each > 1",
+            trend_verdict(all(v > 1.0 for v in ratios.values()))),
+        Row("Rankine's overturning moment is on the unsafe side", "section 4", "Rankine moment < DEM moment",
+            "" if moment is None else f"Rankine / DEM {moment:.2f}", "below 1",
+            trend_verdict(None if moment is None else moment < 1.0),
+            note="moments about the wall base from the active readings (trapezoid rule) and Ka gamma H^3 / 6"),
+        Row("Paik-Salgado and Khosravi fit the lower part, overestimate the upper; Handy fits poorly",
+            "section 4, Fig. 13", "profile shapes", "", "", "not reproduced",
+            note="the report keeps the theories' thrusts, not their profiles"),
+    ]
+
+
+def _moment_ratio(res: dict) -> float | None:
+    """Rankine's active moment about the base over the DEM's, both per gamma H^3: the
+    readings integrated over depth (sigma / (gamma H) times the arm 1 - z/H)."""
+    r = res["readings"]
+    order = np.argsort(r["depth_over_H"])             # readings are listed bottom up
+    z0, p0 = np.array(r["depth_over_H"])[order], np.array(r["active_over_gammaH"])[order]
+    if len(p0) < 2:
+        return None
+    # zero at the surface, the deepest reading held to the base
+    z, p = np.concatenate([[0.0], z0, [1.0]]), np.concatenate([[0.0], p0, [p0[-1]]])
+    dem = float(np.trapezoid(p * (1.0 - z), z))
+    phi = math.radians(res["dem"]["phi_biaxial"])
+    ka = math.tan(math.pi / 4 - phi / 2) ** 2
+    return (ka / 6.0) / dem if dem > 0 else None
+
+
+def _height_rows(others: dict, ref: dict) -> list[Row]:
+    """The paper ran walls of 0.2, 0.25 and 0.3 m: the at-rest and thrust statements at
+    the other two heights (not reproduced where no run exists)."""
+    tol = ref["targets"]["K_at_rest_upper_half_vs_jaky_rel_tol"]
+    rows = []
+    for H in ("0.2", "0.25"):
+        d = others.get(H, {}).get("dem")
+        up = None if d is None else d["K_at_rest_upper_half"]
+        rows.append(Row(f"H = {H} m: at rest close to Jaky in the upper part", "section 3-4, Figs. 10-13",
+                        "K ~ 1 - sin(phi)", "" if d is None else f"K {up:.3f} vs {d['jaky_K0']:.3f}",
+                        f"+-{100 * tol:g} %",
+                        number_verdict(up, d["jaky_K0"], tol * d["jaky_K0"]) if d else "not reproduced"))
+        ratios = None if d is None else others[H].get("theory_thrust_over_dem_active")
+        rows.append(Row(f"H = {H} m: every theory overestimates the total active thrust", "section 4, Fig. 13",
+                        "theory / DEM > 1", "" if not ratios else ", ".join(f"{k} {v:.2f}" for k, v in ratios.items()),
+                        "each > 1", trend_verdict(None if not ratios else all(v > 1 for v in ratios.values()))))
+    return rows
