@@ -52,8 +52,14 @@ def _khosravi_card_from_data():
     return rep["scorecard"], scorecard(rep, ref)
 
 
+def _heap_card_from_data():
+    from studies.heap.validate import scorecard
+    rep = json.loads((DOCS / "heap.json").read_text())
+    return rep["scorecard"], scorecard(rep)
+
+
 REPORTS = {"nadukuru": _nadukuru_card_from_data, "drystone": _drystone_card_from_data,
-           "seismic": _seismic_card_from_data, "khosravi": _khosravi_card_from_data}
+           "seismic": _seismic_card_from_data, "khosravi": _khosravi_card_from_data, "heap": _heap_card_from_data}
 
 
 @pytest.mark.parametrize("study", sorted(REPORTS))
