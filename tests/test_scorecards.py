@@ -85,3 +85,16 @@ def test_the_report_text_says_what_its_json_says(study):
         assert cells[5] == row["verdict"] and cells[3] == (row["ours"] or "-"), row["statement"]
     n = int(re.search(r"\*\*(\d+) statements of the paper", text).group(1))
     assert n == len(stored["rows"])
+
+
+def test_the_index_quotes_each_scorecard_s_totals():
+    """docs/validation/README.md's totals line is each report's JSON totals (matches /
+    scatter / misses / not reproduced of all)."""
+    index = " ".join((DOCS / "README.md").read_text().split())
+    names = {"nadukuru": "Nadukuru", "khosravi": "Khosravi", "drystone": "dry-stone", "seismic": "Sizkow",
+             "heap": "heap"}
+    for study, name in names.items():
+        stored, _ = REPORTS[study]()
+        t = stored["totals"]
+        quoted = f"{name} " + " / ".join(str(t[v]) for v in VERDICTS) + f" of {len(stored['rows'])}"
+        assert quoted in index, quoted
