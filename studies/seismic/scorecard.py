@@ -17,7 +17,7 @@ def scorecard_rows(rep: dict, ref: dict, material: dict | None) -> list[Row]:
 
 
 def _material_rows(ref: dict, mat: dict | None) -> list[Row]:
-    soil = ref["soil"]
+    soil, tol = ref["soil"], ref["targets"]
     phi, vs, f0, n = (soil[k]["value"] for k in ("friction_angle_deg", "shear_wave_speed_m_per_s",
                                                   "fundamental_frequency_Hz", "porosity"))
     tri = next((t for t in (mat or {}).get("triaxial", []) if t.get("rolling_resistance") == 0.25
@@ -29,15 +29,16 @@ def _material_rows(ref: dict, mat: dict | None) -> list[Row]:
     ours_n = (mat or {}).get("deposit_porosity")
     return [
         Row("friction angle of the sand", "soil properties", f"{phi:g} deg",
-            "" if ours_phi is None else f"{ours_phi:.1f} deg (triaxial, 70 kPa)", "+-1.5 deg",
-            number_verdict(ours_phi, phi, 1.5), TUNED_PHI),
+            "" if ours_phi is None else f"{ours_phi:.1f} deg (triaxial, 70 kPa)", f"+-{tol['phi_abs_tol_deg']:g} deg",
+            number_verdict(ours_phi, phi, tol["phi_abs_tol_deg"]), TUNED_PHI),
         Row("shear-wave speed of the deposit", "soil properties", f"{vs:g} m/s",
-            "" if ours_vs is None else f"{ours_vs:.0f} m/s (4 H f0, 9 m free-field column)", "+-10 %",
-            number_verdict(ours_vs, vs, 0.1 * vs)),
+            "" if ours_vs is None else f"{ours_vs:.0f} m/s (4 H f0, 9 m free-field column)", f"+-{100 * tol['shear_wave_speed_rel_tol']:g} %",
+            number_verdict(ours_vs, vs, tol["shear_wave_speed_rel_tol"] * vs)),
         Row("fundamental frequency of the 9 m deposit", "soil properties", f"{f0:g} Hz",
-            "" if ours_f0 is None else f"{ours_f0:.2f} Hz", "+-10 %", number_verdict(ours_f0, f0, 0.1 * f0)),
+            "" if ours_f0 is None else f"{ours_f0:.2f} Hz", f"+-{100 * tol['frequency_rel_tol']:g} %",
+            number_verdict(ours_f0, f0, tol["frequency_rel_tol"] * f0)),
         Row("porosity of the deposit", "soil properties", f"{n:g}", "" if ours_n is None else f"{ours_n:.3f}",
-            "+-0.01", number_verdict(ours_n, n, 0.01)),
+            f"+-{tol['porosity_abs_tol']:g}", number_verdict(ours_n, n, tol["porosity_abs_tol"])),
     ]
 
 
