@@ -34,11 +34,12 @@ def wall_motion(movement: Movement, H: float) -> tuple[dem3d.Motion, float]:
     """The wall's motion for a mode, and the distance [m] from the pivot to the edge whose
     displacement defines Delta (1 for translation). Speeds ramp up over ``ramp``."""
     v = movement.speed
-    y_axis = (0.0, 1.0, 0.0)
+    s = -1.0 if movement.direction == "passive" else 1.0      # passive: every motion mirrored, into the fill
+    y_axis = (0.0, s, 0.0)
     if movement.mode == "T":
-        return dem3d.translation(dem3d.Ramp((-v, 0.0, 0.0), movement.ramp)), 1.0
+        return dem3d.translation(dem3d.Ramp((-s * v, 0.0, 0.0), movement.ramp)), 1.0
     if movement.mode == "RB":      # pivot at the base, top moves -x: axis -y
-        return dem3d.rotation((0.0, 0.0, 0.0), (0.0, -1.0, 0.0), dem3d.Ramp(v / H, movement.ramp)), H
+        return dem3d.rotation((0.0, 0.0, 0.0), (0.0, -s, 0.0), dem3d.Ramp(v / H, movement.ramp)), H
     if movement.mode == "RT":      # pivot at the top, base moves -x: axis +y
         return dem3d.rotation((0.0, 0.0, H), y_axis, dem3d.Ramp(v / H, movement.ramp)), H
     arm = 1.5 * H                  # mixed: pivot H/2 above the top, Delta at the base

@@ -6,7 +6,8 @@ checks and run length of a case made of a recipe, a wall and a movement.
 
 Geometry: wall face at x = 0 (normal +x, backfill at x > 0), floor z = 0, far wall at
 x = L, periodic along y (width w) or, with ``WallSetup.side_friction`` set, between two
-side walls at y = 0 and y = w. Wall movement is away from the backfill (-x).
+side walls at y = 0 and y = w. Wall movement is away from the backfill (-x), or into it
+(+x) with ``Movement.direction`` passive.
 """
 
 from __future__ import annotations
@@ -93,6 +94,11 @@ class Movement:
     # a sample's panel history is held in memory: 1e5 steps x (segments + 4) panels x 48 B,
     # 500 MB at 100 segments
     record_every: int = param(50, lo=1, hi=100_000, meaning="time steps averaged into one load sample (50)")
+    # Nadukuru & Michalowski move the wall away from the fill only; toward it the passive
+    # wedge reaches ~2-3 H, so the box must be longer (the wall study makes it 3 H)
+    direction: Literal["active", "passive"] = param(
+        "active", unit="", meaning="active: the wall moves away from the fill; passive: into it (the same "
+                                   "modes, mirrored)")
     # the paper does not say; PFC3D's default, 0.7, acts in every cycle unless the user
     # turns it off (`--set movement.local_damping=0.7` to run that way)
     local_damping: float = param(0.0, lo=0, hi=1, hi_open=True,

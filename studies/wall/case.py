@@ -40,6 +40,10 @@ from .card import CardMatch, load_card, match_phi
 #: 3.1 m): the active wedge of phi 25 deg reaches 0.64 H
 LENGTH_OVER_HEIGHT = 3.3 / 3.1
 
+#: the same for a passive movement: the log-spiral surface of phi 45 deg with delta = phi
+#: reaches about 2.5 H behind the wall
+PASSIVE_LENGTH_OVER_HEIGHT = 3.0
+
 #: the design formats the DEM's thrust is checked in (``wallsim design --format``)
 FORMATS = ("DA1", "DA2", "DA3", "EQU", "fs")
 
@@ -58,7 +62,7 @@ class WallStudyCase:
     segments: int = param(6, lo=1, hi=100, meaning="equal wall segments whose stresses are read, bottom to top")
     backfill_length: float | None = param(None, unit="m", lo=0, hi=1000, lo_open=True,
                                           meaning="backfill length behind the wall (none: 1.065 H, the Nadukuru "
-                                                  "box)")
+                                                  "box; 3 H for a passive movement)")
     design_format: Literal["DA1", "DA2", "DA3", "EQU", "fs"] = param(
         "DA1", unit="", meaning="format of the design checks rerun with the DEM's thrust (as `wallsim design "
                                 "--format`)")
@@ -106,7 +110,8 @@ class WallStudyCase:
     def wall(self) -> WallSetup:
         back, delta = self.back
         H = back.height
-        L = self.backfill_length if self.backfill_length is not None else round(LENGTH_OVER_HEIGHT * H, 2)
+        ratio = PASSIVE_LENGTH_OVER_HEIGHT if self.movement.direction == "passive" else LENGTH_OVER_HEIGHT
+        L = self.backfill_length if self.backfill_length is not None else round(ratio * H, 2)
         beta = self.design.backfill.beta
         return WallSetup(height=H, segments=self.segments, friction=wall_friction_coefficient(delta),
                          backfill_length=L, surface_slope=beta if beta != 0 else None)

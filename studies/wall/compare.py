@@ -62,8 +62,9 @@ def compare_wall(case: WallStudyCase, *, root: Path = Path("runs"), rrd: Path | 
         hist, frames = _move_and_record(case, spec, recorder, every, progress, folder)
         recorder.close()
     dem = dem_load(case, spec, hist, gamma)
-    theories = theory_rows(case, gamma)
-    design = design_rerun(case, dem)
+    passive = case.movement.direction == "passive"
+    theories = passive_theory_rows(case, gamma) if passive else theory_rows(case, gamma)
+    design = None if passive else design_rerun(case, dem)
     _write_tables(folder, case, hist, dem, theories, design)
     _write_figures(folder, case, hist, frames, dem, theories)
     result = _result(case, spec, cached, hist, dem, theories, design, folder, gamma)
@@ -153,6 +154,46 @@ def theory_rows(case: WallStudyCase, gamma: float) -> list[dict]:
     return rows
 
 
+#: the passive theories beside a movement into the fill (``analytic``'s profiles)
+PASSIVE_THEORIES = (("rankine", "Rankine (passive)"), ("coulomb", "Coulomb (passive)"),
+                    ("log-spiral", "log-spiral (Terzaghi)"))
+
+
+def passive_theory_rows(case: WallStudyCase, gamma: float) -> list[dict]:
+    """Rankine's and Coulomb's passive pressures and Terzaghi's log-spiral on the DEM's
+    back (height H, delta of the file), the file's phi, slope and surcharge and the
+    DEM's gamma [kN/m3]; the same fields as ``theory_rows``. The log-spiral needs a level
+    fill: with a slope it is left out, and the row says so."""
+    from analytic import Soil, Wall, coulomb, rankine
+    from analytic.errors import InvalidParameter
+    from analytic.logspiral import log_spiral
+
+    fill = case.design.backfill
+    H, q = case.wall.height, case.surcharge
+    _, delta = case.back
+    soil = Soil(fill.phi, gamma * 1e3)
+    n = case.wall.segments
+    depth = H * (1.0 - (np.arange(n) + 0.5) / n)
+    rows = []
+    for method, label in PASSIVE_THEORIES:
+        wall = Wall(H, delta_deg=0.0 if method == "rankine" else delta, beta_deg=fill.beta, surcharge=q * 1e3)
+        try:
+            prof = {"rankine": lambda: rankine(soil, wall, passive=True),
+                    "coulomb": lambda: coulomb(soil, wall, passive=True),
+                    "log-spiral": lambda: log_spiral(soil, wall)}[method]()
+        except InvalidParameter as err:
+            rows.append({"name": label, "method": method, "thrust_kN_per_m": None, "K": None,
+                         "resultant_height_over_H": None, "delta_deg": wall.delta_deg, "segment_sigma_kPa": None,
+                         "notes": f"not applicable: {err}"})
+            continue
+        Ph = prof.thrust_h / 1e3
+        rows.append({"name": label, "method": method, "thrust_kN_per_m": Ph, "K": Ph / (0.5 * gamma * H * H + q * H),
+                     "resultant_height_over_H": prof.height / H, "delta_deg": wall.delta_deg,
+                     "segment_sigma_kPa": (np.interp(depth, prof.z, prof.sigma_h) / 1e3).tolist(),
+                     "notes": prof.notes or prof.source})
+    return rows
+
+
 def _surcharge_factor(thrust, q: float, H: float, gamma: float) -> float:
     """The surcharge part's coefficient over the soil part's (1 for a level fill: both
     are K; Annex C's K_q differs from K_gamma)."""
@@ -225,7 +266,8 @@ def _governing(result) -> dict:
     return {"check": name, "combination": combo, "utilisation": u, "passes": u <= 1.0}
 
 
-def _write_tables(folder, case: WallStudyCase, hist: dict, dem: dict, theories: list, design: dict) -> None:
+def _write_tables(folder, case: WallStudyCase, hist: dict, dem: dict, theories: list, design: dict | None) -> None:
+    theories = [r for r in theories if r["K"] is not None]        # a theory that does not apply has no row
     n = case.wall.segments
     seg_cols = [f"segment{k + 1}_sigma_kPa" for k in range(n)]
     folder.write_csv("history.csv", ["wall_disp_over_H", "time_s", "step", "K_eq6", "resultant_height_over_H",
@@ -242,6 +284,8 @@ def _write_tables(folder, case: WallStudyCase, hist: dict, dem: dict, theories: 
     folder.write_csv("theory.csv", ["source", "thrust_kN_per_m", "K", "resultant_height_over_H"],
                      [["dem", dem["thrust_kN_per_m"], dem["K"], dem["resultant_height_over_H"]]] +
                      [[r["method"], r["thrust_kN_per_m"], r["K"], r["resultant_height_over_H"]] for r in theories])
+    if design is None:
+        return                     # a passive movement: no design check takes its load
     folder.write_csv("design.csv", ["check", "E_d_classical", "R_d_classical", "utilisation_classical",
                                     "E_d_dem", "R_d_dem", "utilisation_dem"],
                      [[name, c["classical"]["E_d"], c["classical"]["R_d"], c["classical"]["utilisation"],
@@ -254,7 +298,8 @@ def _write_figures(folder, case: WallStudyCase, hist: dict, frames: dict, dem: d
 
     from .figures import plot_K_history, plot_pressure
 
-    mode = MODE_TITLES[case.movement.mode]
+    mode = MODE_TITLES[case.movement.mode] + (", passive" if case.movement.direction == "passive" else "")
+    theories = [r for r in theories if r["K"] is not None]
     plot_pressure(case.wall.height, dem["segment_sigma_kPa"], theories, folder.file("fig_pressure.png"),
                   title=f"Pressure on the wall at Delta/H = {case.movement.wall_disp_over_H:g} ({mode})")
     to_total = dem["K"] / hist["K_active"] if hist["K_active"] else 1.0      # eq. 6's K -> the total thrust's
@@ -269,13 +314,14 @@ def _write_figures(folder, case: WallStudyCase, hist: dict, frames: dict, dem: d
                           title=f"force chains at Delta/H = {end:.4f} ({mode})")
 
 
-def _result(case: WallStudyCase, spec, cached: bool, hist: dict, dem: dict, theories: list, design: dict,
+def _result(case: WallStudyCase, spec, cached: bool, hist: dict, dem: dict, theories: list, design: dict | None,
             folder, gamma: float) -> dict:
     rec, fill = case.specimen, case.design.backfill
     back, delta = case.back
     return {
         "case": "wall", "design_file": str(case.design_file), "wall_type": case.design.wall.kind,
-        "mode": case.movement.mode, "wall_disp_over_H": case.movement.wall_disp_over_H,
+        "mode": case.movement.mode, "direction": case.movement.direction,
+        "wall_disp_over_H": case.movement.wall_disp_over_H,
         "particles": spec.n_spheres, "bodies": spec.n_bodies, "seed": case.seed, "specimen_cached": cached,
         "wall": {"height_m": case.wall.height, "back": "virtual (through the heel)" if back.virtual else "real",
                  "delta_deg": delta, "friction": case.wall.friction, "backfill_length_m": case.wall.backfill_length,

@@ -13,7 +13,9 @@ from ..granular.wall import MODE_TITLES
 
 def wall_text(res: dict):
     d, w, b = res["dem"], res["wall"], res["backfill"]
-    load = Table(title=f"{res['wall_type']} wall ({res['design_file']}): {MODE_TITLES[res['mode']]} to Delta/H "
+    passive = res.get("direction") == "passive"
+    mode = MODE_TITLES[res["mode"]] + (" into the fill (passive)" if passive else "")
+    load = Table(title=f"{res['wall_type']} wall ({res['design_file']}): {mode} to Delta/H "
                        f"{res['wall_disp_over_H']:g}, {res['particles']} spheres, seed {res['seed']}, "
                        f"{res['wall_time_s']:.0f} s", title_justify="left")
     for col in ("", "thrust kN/m", "K", "h/H", "note"):
@@ -24,9 +26,18 @@ def wall_text(res: dict):
     load.add_row("wallsim DEM (at rest)", "", f"{d['K_at_rest']:.3f}", f"{d['resultant_height_over_H_at_rest']:.3f}",
                  "before the wall moved")
     for t in res["theory"]:
+        if t["K"] is None:
+            load.add_row(t["name"], "", "", "", t["notes"])
+            continue
         load.add_row(t["name"], f"{t['thrust_kN_per_m']:.1f}", f"{t['K']:.3f}", f"{t['resultant_height_over_H']:.3f}",
                      f"delta {t['delta_deg']:.1f} deg")
     des = res["design"]
+    if des is None:
+        return Group(load, Text(
+            "design checks: not rerun: no check of a wall takes the load of a movement into the fill\n"
+            f"wall: back {w['back']}, {w['height_m']:.3f} m, delta {w['delta_deg']:.2f} deg, surcharge "
+            f"{w['surcharge_kPa']:g} kPa, backfill {w['backfill_length_m']:g} m long\n"
+            "assumptions: " + "; ".join(res["assumptions"]), style="dim"))
     checks = Table(title=f"design checks, format {des['format']}: utilisation classical -> with the DEM's thrust",
                    title_justify="left")
     for col in ("check", "classical", "DEM-informed", "change"):

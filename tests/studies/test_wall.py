@@ -288,3 +288,36 @@ def test_a_reduced_triaxial_of_the_card_recipe_has_the_requested_phi():
     m = match_phi(34.0, load_card())
     res = run_triaxial(point_recipe(3000, m.particle_friction, m.rolling_friction), seed=2, particles=3000)
     assert res.phi_peak_deg == pytest.approx(34.0, abs=1.5)
+
+
+def test_a_passive_movement_mirrors_each_mode():
+    """direction passive: the wall moves into the fill (+x) in translation, and each
+    rotation turns the other way about the same pivot."""
+    from studies.granular.movement import wall_motion
+    from studies.granular.wall import Movement
+
+    for mode in ("T", "RB", "RT", "mixed"):
+        a, _ = wall_motion(Movement(mode=mode), 3.0)
+        p, _ = wall_motion(Movement(mode=mode, direction="passive"), 3.0)
+        if mode == "T":
+            assert a.velocity(1.0)[0] < 0 < p.velocity(1.0)[0]
+        else:
+            assert np.allclose(np.asarray(a.axis), -np.asarray(p.axis)) and a.pivot == p.pivot
+
+
+def test_a_passive_run_loads_the_wall_above_at_rest(tmp_path, capsys):
+    """Into the fill, K rises above its at-rest value (theory: K0 < Kp), the passive
+    theories stand beside it, and no design check is rerun (none takes that load)."""
+    out = tmp_path / "runs"
+    data = tomllib.loads(EXAMPLE.read_text())
+    data["loads"]["surcharge"] = 0.0
+    import tomli_w
+    path = _wall_file(tmp_path, tomli_w.dumps(data))
+    assert cli.main(["compare", "wall", path, "--particles", "3000", "--out", str(out), "--quiet", "--json",
+                     "--no-rrd", "--set", "movement.direction=passive", "--set",
+                     "movement.wall_disp_over_H=0.01"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["dem"]["K"] > 1.5 * res["dem"]["K_at_rest"]
+    assert [t["method"] for t in res["theory"]] == ["rankine", "coulomb", "log-spiral"]
+    assert res["design"] is None and not (Path(res["run_folder"]) / "design.csv").exists()
+    assert res["wall"]["backfill_length_m"] == 18.0          # 3 H
