@@ -130,13 +130,33 @@ def _write(report: dict, out_dir: Path, ref: dict) -> dict:
     atomic_write(pj, (json.dumps(to_plain(report), indent=2) + "\n").encode())
     pm = out_dir / "khosravi.md"
     text = _markdown(report["result"], report["checks"], report["figures"], report["manifest"], ref,
-                     report.get("backfilling"), report["scorecard"])
+                     report.get("backfilling"), report["scorecard"]) + _other_heights_lines(report)
     discussion = out_dir / "khosravi_discussion.md"          # hand-written, kept across runs
     if discussion.is_file():
         text = text.rstrip("\n") + "\n\n" + discussion.read_text()
     atomic_write(pm, text.encode())
     report["paths"] = {"json": str(pj), "md": str(pm)}
     return report
+
+
+def _other_heights_lines(report: dict) -> str:
+    """The paper's other walls (``other_heights``), one row each, after the main report."""
+    others = report.get("other_heights")
+    if not others:
+        return ""
+    lines = ["", "## The paper's other wall heights", "",
+             "Full size, the same recipe and seed; each from its own `wallsim validate khosravi --set H=...` run "
+             "(`other_heights` in khosravi.json; Fig. 13 of each in `khosravi/fig13_profiles_H<H>.png`).", "",
+             "| H [m] | disks | porosity | at-rest K upper half / Jaky | active thrust / Rankine | 90 % of the drop by "
+             "Dis/H | theory / DEM thrust | CPU [min] | git |", "|---|---|---|---|---|---|---|---|---|"]
+    for H, o in sorted(others.items(), key=lambda kv: float(kv[0])):
+        d = o["dem"]
+        ratios = ", ".join(f"{k} {v:.2f}" for k, v in o.get("theory_thrust_over_dem_active", {}).items())
+        cpu = o.get("timings_s", {}).get("cpu_total")
+        lines.append(f"| {H} | {o['particles']} | {o['porosity']:.3f} | {d['K_at_rest_upper_half_over_jaky']:.3f} | "
+                     f"{d['active_thrust_over_rankine']:.3f} | {d['wall_disp_over_H_steady']:.4f} | {ratios} | "
+                     + (f"{cpu / 60:.1f}" if cpu is not None else "-") + f" | {o.get('git')} |")
+    return "\n".join(lines) + "\n"
 
 
 #: the biaxial card whose test at the report's friction gave its phi (committed)
@@ -153,13 +173,22 @@ def scorecard(report: dict, ref: dict) -> dict:
 
 def add_other_height(out_dir: Path, other: Path, reference: Path) -> dict:
     """Put the result of a validation at another wall height (``other``: its
-    khosravi.json, written to a scratch --docs) into ``out_dir``/khosravi.json under
-    ``other_heights[H]`` and rewrite the report."""
+    khosravi.json, written to a scratch --docs, or the run folder's result.json) into
+    ``out_dir``/khosravi.json under ``other_heights[H]`` and rewrite the report."""
     report = json.loads((out_dir / "khosravi.json").read_text())
-    res = json.loads(Path(other).read_text())["result"]
+    data = json.loads(Path(other).read_text())
+    res = data.get("result", data)
     keep = ("particles", "seed", "H_m", "porosity", "dem", "theory_thrust_over_dem_active", "timings_s", "friction")
     H = f"{round(res['H_m'], 2):g}"
-    report.setdefault("other_heights", {})[H] = {k: res[k] for k in keep if k in res} | {"source": str(other)}
+    manifest = Path(other).with_name("manifest.json")
+    git = json.loads(manifest.read_text()).get("git") if manifest.is_file() else data.get("manifest", {}).get("git")
+    report.setdefault("other_heights", {})[H] = {k: res[k] for k in keep if k in res} | {"source": str(other),
+                                                                                           "git": git}
+    fig = Path(other).with_name("fig13_profiles.png")
+    if fig.is_file():                      # the paper's Fig. 13 at this height
+        name = f"fig13_profiles_H{H}.png"
+        shutil.copy(fig, out_dir / "khosravi" / name)
+        report["figures"][name] = f"khosravi/{name}"
     return _write(report, out_dir, json.loads(Path(reference).read_text()))
 
 
