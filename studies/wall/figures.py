@@ -18,7 +18,8 @@ def plot_pressure(H: float, dem_sigma_kPa, theories: list[dict], path, *, title:
     edges = np.linspace(0.0, H, n + 1)
     centres = 0.5 * (edges[1:] + edges[:-1])
     fig, ax = plt.subplots(figsize=(5.5, 6))
-    ax.stairs(sigma, edges, orientation="horizontal", color="k", lw=1.8, label="DEM (segment mean)")
+    ax.stairs(sigma, edges, orientation="horizontal", baseline=None, color="k", lw=1.8,
+              label="DEM (segment mean)")
     for row in theories:
         ls, colour = _style(row["method"])
         ax.plot(np.asarray(row["segment_sigma_kPa"])[::-1], centres, marker="o", ms=3, lw=0.9, ls=ls,
