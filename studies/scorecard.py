@@ -42,6 +42,9 @@ class Row:
     def __post_init__(self):
         if self.verdict not in VERDICTS:
             raise ValueError(f"verdict {self.verdict!r} not in {VERDICTS}")
+        for name, value in asdict(self).items():
+            if not isinstance(value, str):     # a number here would reach the Markdown unformatted
+                raise TypeError(f"scorecard row {self.statement!r}: {name} = {value!r} is not text")
 
 
 def number_verdict(ours: float | None, paper: float, tol: float, scatter: tuple[float, float] | None = None) -> str:

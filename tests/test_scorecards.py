@@ -98,3 +98,20 @@ def test_the_index_quotes_each_scorecard_s_totals():
         t = stored["totals"]
         quoted = f"{name} " + " / ".join(str(t[v]) for v in VERDICTS) + f" of {len(stored['rows'])}"
         assert quoted in index, quoted
+
+
+def test_a_partial_nadukuru_report_scores_what_it_ran():
+    """A validation of one wall and one mode, without the triaxial or the supporting
+    files (what `validate nadukuru --walls rough --modes T` writes): every other
+    statement is 'not reproduced', and every row is text."""
+    from studies.nadukuru.case import REFERENCE
+    from studies.nadukuru.scorecard import scorecard_rows
+    rep = json.loads((DOCS / "nadukuru.json").read_text())
+    rep["walls"] = {"rough": rep["walls"]["rough"] | {"modes": {"T": rep["walls"]["rough"]["modes"]["T"]}}}
+    rep.pop("triaxial")
+    rows = scorecard_rows(rep, REFERENCE, {})
+    verdicts = {r.statement: r.verdict for r in rows}
+    assert verdicts["rough wall, T: active K"] == "matches"
+    assert verdicts["smooth wall, T: active K"] == "not reproduced"
+    assert verdicts["the final load depends on phi, not on the grain size (RT, K)"] == "not reproduced"
+    assert sum(v == "not reproduced" for v in verdicts.values()) >= 15

@@ -144,8 +144,9 @@ def _spread(s: dict, rep: dict, ref: dict) -> Row:
 
 def _not_run(s: dict, rep: dict, ref: dict) -> Row:
     """A statement no run of the report tests."""
-    return Row(s["statement"], s["where"], s["paper_text"], "", s.get("tolerance", ""), "not reproduced",
-               s.get("agreement", "independent"), s.get("note", ""))
+    tol = s.get("tolerance", "")
+    return Row(s["statement"], s["where"], s["paper_text"], "", tol if isinstance(tol, str) else f"{tol:g}",
+               "not reproduced", s.get("agreement", "independent"), s.get("note", ""))
 
 
 _ROWS = {"table": _table_value, "specimen": _specimen_value, "triaxial": _triaxial, "order": _ordering,
