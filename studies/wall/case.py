@@ -74,6 +74,7 @@ class WallStudyCase:
         check_fields(self)
         if self.design_file is not None:
             refuse_what_dem_cannot_model(self.design)
+            check_design(self.design, self.design_format)
             check_backfill_case(self)
 
     # the records the pipeline reads (studies.granular.wall.WallCase) ------------------
@@ -147,6 +148,14 @@ def grain_density(gamma_kN_m3: float, porosity: float) -> float:
 def wall_friction_coefficient(delta_deg: float) -> float:
     """tan(delta) to 4 decimals (the paper's rough wall, 0.35, is delta = 19.29 deg)."""
     return round(math.tan(math.radians(delta_deg)), 4)
+
+
+def check_design(design, fmt: str) -> None:
+    """The file's own checks in ``fmt`` run once before any grain is made, so what
+    `wallsim design` would refuse in the file (a wall friction above phi, say) stops
+    here in one line, not after the DEM."""
+    from analytic.design import load_factors, verify
+    verify(design, load_factors(), fmt)
 
 
 def refuse_what_dem_cannot_model(design) -> None:

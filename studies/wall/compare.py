@@ -133,6 +133,7 @@ def theory_rows(case: WallStudyCase, gamma: float) -> list[dict]:
     from analytic.design import Backfill
     from analytic.design.earth import design_thrust
     from analytic.design.walls import WallBack
+    from analytic.errors import InvalidParameter
 
     fill = case.design.backfill
     H, q = case.wall.height, case.surcharge
@@ -143,7 +144,13 @@ def theory_rows(case: WallStudyCase, gamma: float) -> list[dict]:
     depth = H * (1.0 - (np.arange(n) + 0.5) / n)
     rows = []
     for method, label in THEORIES:
-        t = design_thrust(soil, back, method, q=q, delta=delta)
+        try:
+            t = design_thrust(soil, back, method, q=q, delta=delta)
+        except InvalidParameter as err:          # e.g. a wall friction above phi for Coulomb
+            rows.append({"name": label, "method": method, "thrust_kN_per_m": None, "K": None,
+                         "resultant_height_over_H": None, "delta_deg": delta, "segment_sigma_kPa": None,
+                         "notes": f"not applicable: {err}"})
+            continue
         Ph = t.Ph
         height = math.fsum(p.Ph * p.y for p in t.parts) / Ph
         # linear soil part and uniform surcharge part (both theories' distributions)

@@ -148,7 +148,7 @@ def _example_lines(ex: dict) -> list[str]:
              + _stages(ex) + ".", "",
              "| | thrust kN/m | K | h/H |", "|---|---|---|---|",
              f"| wallsim DEM (active) | {d['thrust_kN_per_m']:.1f} | {d['K']:.3f} | {d['resultant_height_over_H']:.3f} |"]
-    for t in ex["theory"]:
+    for t in (t for t in ex["theory"] if t["K"] is not None):
         lines.append(f"| {t['name']} | {t['thrust_kN_per_m']:.1f} | {t['K']:.3f} | {t['resultant_height_over_H']:.3f} |")
     lines += ["", f"Design checks ({des['format']}), utilisation classical -> with the DEM's thrust:", "",
               "| check | classical | DEM-informed |", "|---|---|---|"]
