@@ -100,7 +100,7 @@ COMPARE = Command(
 CALIBRATE = Command(
     verb="calibrate", help="the phi card of the wall backfill: triaxial peak phi along its micro parameters (3D)",
     description="Cubical triaxial tests of the wall study's backfill recipe at each point of the card's path "
-                "(grain friction 0 to 0.65, then rolling resistance 0.05 to 0.3), collated into the phi card "
+                "(grain friction 0.1 to 0.65, then rolling resistance 0.05 to 0.3), collated into the phi card "
                 "that `compare wall` inverts for a file's phi.",
     default_case=_default_card_case, run=_calibrate, text=_card_text, busy_note=True,
     options=(Option("--particles", "spheres per test (8200, the Nadukuru triaxial's)", key="particles"),))

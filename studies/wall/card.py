@@ -1,7 +1,7 @@
 """The phi card: the peak friction angle the triaxial test (``studies.elements.triaxial``)
 gives the wall backfill's recipe along one path of micro parameters, and its inverse.
 
-The path raises the grain friction from 0 to the paper's 0.65 (rolling resistance off),
+The path raises the grain friction from 0.1 to the paper's 0.65 (rolling resistance off),
 then the rolling resistance at friction 0.65, since friction alone levels off near the
 mixture's 37 deg. ``match_phi`` interpolates the path linearly in phi between the two
 card points that bracket the requested angle; the card's points come from ``wallsim
@@ -116,5 +116,5 @@ def collate(cards: list[dict]) -> dict:
     first = cards[0]
     return {"test": first["test"], "confining_kPa": first["confining_kPa"],
             "strain_rate_per_s": first["strain_rate_per_s"], "recipe": common | {"particles": first["particles"]},
-            "path": "grain friction 0 -> 0.65 (rolling 0), then rolling resistance at friction 0.65",
+            "path": "grain friction 0.1 -> 0.65 (rolling 0), then rolling resistance at friction 0.65",
             "points": points, "versions": first.get("versions"), "reproducibility": first.get("reproducibility")}
