@@ -56,12 +56,21 @@ def scale_note(case) -> str | None:
             "wall); how results move with resolution is not measured yet")
 
 
+def _rest_line(rest: dict) -> str:
+    """The rest before shaking: how far the wall moved once the shaking model took over."""
+    top, back = rest["top_displacement_m"], rest["thrust_back_kN_per_m"]
+    return (f"rest {rest['rest_s']:g} s before the base moved: wall top {top[0] * 1e3:.1f} -> {top[1] * 1e3:.1f} mm "
+            f"({rest['top_change_over_last_fifth_m'] * 1e3:+.1f} mm over its last fifth), thrust back "
+            f"{back[0]:.1f} -> {back[1]:.1f} kN/m")
+
+
 def _text(r: dict) -> str:
     p = r["prototype"]
     s, e = p["static"], p["residual"]
     return (f"{r['frequency_Hz']:g} Hz (prototype), grain scale {r['grain_scale']:g}: {r['particles']} spheres "
             f"(+{sum(r['column_particles'])} in the free-field columns), porosity {r['porosity']:.3f}, "
             f"dt {r['dt_s']:.3g} s, {r['steps']} steps at {r['steps_per_s']:.0f} steps/s\n"
+            f"{_rest_line(r['rest'])}\n"
             f"static: wall top {s['top_displacement_m'] * 1e3:.1f} mm toward the excavation, thrust back "
             f"{s['thrust_back_kN_per_m']:.1f} / front {s['thrust_front_kN_per_m']:.1f} kN/m, moment "
             f"{s['max_moment_kN_m_per_m']:.1f} kN m/m\n"

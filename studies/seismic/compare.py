@@ -54,6 +54,20 @@ def dynamic_summary(case: SeismicCase, x0, shaken: Shaken, porosity: float) -> d
             "passive_K_max_at_1_5m": max(passive_K(case, r, porosity) for r in shaken.readings)}
 
 
+def rest_summary(case: SeismicCase, x0, shaken: Shaken) -> dict:
+    """How the wall moved while the shaking model rested before the base moved
+    (prototype): its top and thrusts as the static stage left them and at the end of the
+    rest, and the top's movement over the rest's last fifth (how far from standing)."""
+    n, r = case.scale_N, shaken.rest.readings
+    top = np.array([-(x.x[-1] - x0[-1]) * n for x in r])
+    last = top[-max(2, len(top) // 5):]
+    return {"rest_s": case.rest_s, "readings": len(r),
+            "top_displacement_m": [float(top[0]), float(top[-1])],
+            "top_change_over_last_fifth_m": float(last[-1] - last[0]),
+            "thrust_back_kN_per_m": [r[0].thrust_back * n / 1e3, r[-1].thrust_back * n / 1e3],
+            "thrust_front_kN_per_m": [r[0].thrust_front * n / 1e3, r[-1].thrust_front * n / 1e3]}
+
+
 def series_table(case: SeismicCase, x0, shaken: Shaken, porosity: float) -> dict[str, np.ndarray]:
     """Time series in prototype units: time, base displacement, wall top displacement
     relative to the base (toward the excavation), thrusts, largest moment, the wall's
@@ -87,7 +101,7 @@ def profiles_table(case: SeismicCase, shaken: Shaken) -> dict[str, np.ndarray]:
 def settlement_table(case: SeismicCase, prepared: Prepared, shaken: Shaken):
     """Settlement [m] of the retained ground against distance from the wall [m], prototype."""
     soil = np.setdiff1d(np.arange(len(prepared.model.radii)), prepared.model.wall)
-    x0 = _positions(prepared.main)
+    x0 = shaken.rest.start
     x1 = _positions(shaken.final)
     dist, s = settlement(x0, x1, prepared.model.radii, case, soil)
     return {"distance_m": dist * case.scale_N, "settlement_m": s * case.scale_N}
@@ -103,7 +117,7 @@ def strain_maps(case: SeismicCase, prepared: Prepared, shaken: Shaken, cell_grai
     """[(Snapshot, ShearStrainMap)]: the soil's maximum shear strain since the start of
     shaking at each snapshot (the paper's Fig. 7), model units."""
     soil = np.setdiff1d(np.arange(len(prepared.model.radii)), prepared.model.wall)
-    x0 = _positions(prepared.main)
+    x0 = shaken.rest.start
     return [(snap, shear_strain_map(case, x0, snap.positions, soil, cell_grains)) for snap in shaken.snapshots]
 
 
@@ -309,6 +323,7 @@ def _result(case, prepared, shaken, x0_rows, porosity, fraction) -> dict:
             "steps_per_s": shaken.steps / shaken.seconds if shaken.seconds > 0 else math.nan,
             "prepare": {k: v for k, v in info.items() if k != "x_wall_before_excavation"},
             "prototype": dynamic_summary(case, x0_rows, shaken, porosity),
+            "rest": rest_summary(case, x0_rows, shaken),
             "mononobe_okabe": {k: {"thrust_kN_per_m": p.thrust / 1e3, "K": p.K} for k, p in mo.items()},
             "units": "prototype (model x " + ", ".join(f"{k} {v:g}" for k, v in
                                                       prototype_factors(case.scale_N).items()) + ")"}

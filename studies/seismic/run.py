@@ -30,7 +30,7 @@ from .case import SeismicCase
 from .measures import WallReading, wall_reading
 
 #: case fields that do not shape the static state (the dynamic stage and its sampling)
-DYNAMIC_FIELDS = ("frequency", "amplitude_g", "ramp_s", "hold_s", "decay_s", "end_s", "record_every",
+DYNAMIC_FIELDS = ("frequency", "amplitude_g", "rest_s", "ramp_s", "hold_s", "decay_s", "end_s", "record_every",
                   "free_field_every", "segment_mass_grains")
 
 #: Poisson's ratio of the soil skeleton for the P-wave dashpot, C_p = C_s sqrt(2(1 - nu)/(1 - 2 nu)) [A]
@@ -171,6 +171,7 @@ class Shaken(NamedTuple):
     final:     the main simulation's final arrays (to_arrays)
     steps:     steps taken; seconds: wall time
     snapshots: list of Snapshot, at the asked prototype times the run reached
+    rest:      the shaking model at rest before the base moved (``Rest``)
     """
 
     time: np.ndarray
@@ -180,6 +181,23 @@ class Shaken(NamedTuple):
     steps: int
     seconds: float
     snapshots: tuple = ()
+    rest: "Rest | None" = None
+
+
+class Rest(NamedTuple):
+    """The shaking model left at rest for ``case.rest_s`` (prototype) before the base
+    moves: the static stage settled with rigid side walls and local damping, and the
+    model that is shaken (free-field boundaries, viscous damping) moves on from there
+    before it stands; its static reading is the one at the end of the rest.
+
+    readings: measures.WallReading every ``record_every`` (the first as the static stage
+              left the wall, the last the shaking's first reading)
+    start:    (n, 3) sphere positions when the base starts to move, specimen order [m]
+              (model units): the reference of settlement and shear strain
+    """
+
+    readings: list
+    start: np.ndarray
 
 
 class Snapshot(NamedTuple):
@@ -208,17 +226,17 @@ def coupled(case: SeismicCase, prepared: Prepared, state: dict | None = None):
     else:
         main_arrays = _prefixed(state, "main/")
         col_arrays = tuple(_prefixed(state, f"col{c}/") for c in range(len(prepared.columns)))
-    # the motions start at each engine's clock when the shaking began
-    t0 = float(prepared.main["time"]) if state is None else float(state["shake/t0"])
-    motion, table = M.base_motion(case, t0)
+    # the motions start at each engine's clock of the static state plus the rest
+    # (from the prepared state also when resuming, so both runs start them on the same bits)
+    rest_time = rest_steps(case, float(prepared.main["dt"])) * float(prepared.main["dt"])
+    motion, table = M.base_motion(case, float(prepared.main["time"]) + rest_time)
     main = Simulation.from_arrays(main_arrays, walls=M.boundary_walls(case, motion))
     law = M.contact_law(case, local_damping=0.0)
     if state is None:
         main.set_params(law, allow_unsafe_dt=True)          # the bonds' step is checked in time_step
     columns = []
     for c, arrays in enumerate(col_arrays):
-        tc = float(arrays["time"]) if state is None else float(state["shake/col_t0"][c])
-        m_c, _ = M.base_motion(case, tc)
+        m_c, _ = M.base_motion(case, float(prepared.columns[c]["time"]) + rest_time)
         col = Simulation.from_arrays(arrays, walls=_column_walls(case, m_c))
         if state is None:
             col.set_params(law, allow_unsafe_dt=True)
@@ -269,7 +287,7 @@ def checkpoint_key(case: SeismicCase, fraction: float, snapshot_times) -> str:
     """What a checkpoint of ``shake`` belongs to: the case, the fraction of the motion and
     the snapshot times (a resume with any other would not continue the same run)."""
     return content_key({"case": dataclasses.asdict(case), "fraction": float(fraction),
-                        "snapshots": sorted(float(t) for t in snapshot_times), "v": 1})
+                        "snapshots": sorted(float(t) for t in snapshot_times), "v": 2})
 
 
 def checkpoint_samples(state: dict) -> int:
@@ -281,12 +299,12 @@ def checkpoint_samples(state: dict) -> int:
 _READING_SCALARS = ("thrust_front", "thrust_back")
 
 
-def _readings_arrays(readings: list) -> dict:
-    return {f"reading/{f}": np.array([getattr(r, f) for r in readings]) for f in WallReading._fields}
+def _readings_arrays(readings: list, prefix: str = "reading/") -> dict:
+    return {f"{prefix}{f}": np.array([getattr(r, f) for r in readings]) for f in WallReading._fields}
 
 
-def _readings_from(state: dict) -> list:
-    cols = {f: state[f"reading/{f}"] for f in WallReading._fields}
+def _readings_from(state: dict, prefix: str = "reading/") -> list:
+    cols = {f: state[f"{prefix}{f}"] for f in WallReading._fields}
     return [WallReading(**{f: (float(cols[f][k]) if f in _READING_SCALARS else np.array(cols[f][k], copy=True))
                            for f in WallReading._fields}) for k in range(len(cols["z"]))]
 
@@ -321,10 +339,9 @@ class _Progress:
     before: float = 0.0
 
     @classmethod
-    def fresh(cls, main, columns, case: SeismicCase, prepared: Prepared, snapshot_times) -> "_Progress":
-        t0, col_t0 = main.time, [c.time for c in columns]
-        main.evaluate_forces()
-        return cls(t0, col_t0, [0.0], [0.0], [wall_reading(main, case, prepared.model)], sorted(snapshot_times), [])
+    def fresh(cls, main, columns, first, snapshot_times) -> "_Progress":
+        """From the model as the rest left it; ``first``: its reading then."""
+        return cls(main.time, [c.time for c in columns], [0.0], [0.0], [first], sorted(snapshot_times), [])
 
     @classmethod
     def resumed(cls, state: dict, total: int, every: int) -> "_Progress":
@@ -343,6 +360,35 @@ class _Progress:
                 "shake/times": np.array(self.times, float), "shake/base": np.array(self.base, float),
                 "shake/pending": np.array(self.pending, float), "shake/seconds": np.array(self.before + seconds)} \
             | _readings_arrays(self.readings) | _snapshots_arrays(self.snaps, n_spheres)
+
+
+def rest_steps(case: SeismicCase, dt: float) -> int:
+    """Steps of the rest before the base moves (``case.rest_s`` prototype, time step ``dt`` [s])."""
+    return int(round(case.to_model_time(case.rest_s) / dt))
+
+
+def rest(case: SeismicCase, prepared: Prepared, main, columns, bnds, free_field) -> Rest:
+    """The shaking model (``coupled``) stepped ``case.rest_s`` with the base still, a
+    reading every ``record_every``: where the wall stands when the base starts to move."""
+    total = rest_steps(case, main.dt)
+    every = max(1, int(round(case.to_model_time(case.record_every) / main.dt)))
+    main.evaluate_forces()              # once: it advances the contacts' shear history
+    readings = [wall_reading(main, case, prepared.model)]
+    done = 0
+    while done < total:
+        k = min(every, total - done)
+        step_coupled(main, bnds, k, free_field=free_field, columns=columns, every=case.free_field_every)
+        done += k
+        readings.append(wall_reading(main, case, prepared.model))
+    return Rest(readings, _specimen(main, main.spheres.x))
+
+
+def _rest_arrays(r: Rest) -> dict:
+    return _readings_arrays(r.readings, "rest/") | {"rest/start": r.start}
+
+
+def _rest_from(state: dict) -> Rest:
+    return Rest(_readings_from(state, "rest/"), np.array(state["rest/start"], copy=True))
 
 
 def _engine_arrays(main, columns, bnds) -> dict:
@@ -385,9 +431,10 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
     def free_field():
         return [column_free_field(c, e, area) for c, e in zip(columns, edges)]
 
+    settled = rest(case, prepared, main, columns, bnds, free_field) if resume is None else _rest_from(resume)
     total = int(round(fraction * case.duration / main.dt))
     every = max(1, int(round(case.to_model_time(case.record_every) / main.dt)))
-    run = (_Progress.fresh(main, columns, case, prepared, snapshot_times) if resume is None
+    run = (_Progress.fresh(main, columns, settled.readings[-1], snapshot_times) if resume is None
            else _Progress.resumed(resume, total, every))
     last_checkpoint = time.perf_counter()
     step_of_marks = max(1, int(every_fraction * total))
@@ -409,8 +456,8 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
         if checkpoint is not None and run.done < total and (time.perf_counter() - last_checkpoint > every_s
                                                             or run.done >= next_mark):
             next_mark = (run.done // step_of_marks + 1) * step_of_marks
-            checkpoint(_engine_arrays(main, columns, bnds)
+            checkpoint(_engine_arrays(main, columns, bnds) | _rest_arrays(settled)
                        | run.arrays(key, total, every, time.perf_counter() - wall_clock, main.n_spheres))
             last_checkpoint = time.perf_counter()
     return Shaken(np.array(run.times), np.array(run.base), run.readings, main.to_arrays(), run.done,
-                  run.before + time.perf_counter() - wall_clock, tuple(run.snaps))
+                  run.before + time.perf_counter() - wall_clock, tuple(run.snaps), settled)
