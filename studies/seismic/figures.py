@@ -164,3 +164,75 @@ def plot_seismic_strain(x_edges, z_edges, fields: list, path, *, wall: tuple, gr
     if note:
         fig.text(0.01, 0.005, note, fontsize=6, va="bottom")
     return save_figure(fig, path, tight=False)
+
+
+def _by_frequency(tables: dict, fig_title: str, draw, path, *, sharey: bool = True) -> Path:
+    """One panel per frequency (prototype Hz -> table), drawn by ``draw(ax, table)``."""
+    freqs = sorted(tables)
+    fig, axes = plt.subplots(1, len(freqs), figsize=(3.2 * len(freqs) + 0.6, 4.2), squeeze=False, sharey=sharey)
+    for a, f in zip(axes[0], freqs):
+        draw(a, tables[f])
+        a.set_title(f"{f:g} Hz", fontsize=9)
+        a.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=6)
+    fig.suptitle(fig_title, fontsize=10)
+    return save_figure(fig, path)
+
+
+def plot_pressures_by_frequency(profiles: dict, path) -> Path:
+    """Sizkow & El Shamy's Fig. 3 for every frequency: static, maximum and residual
+    pressure on both faces [kPa, prototype] against height above the base [m]
+    (``profiles``: Hz -> pressure_profiles.csv columns)."""
+    return _by_frequency(profiles, "lateral pressure on both faces: back +, front - (Fig. 3)",
+                         lambda ax, p: _face_pressures_only(ax, p), path)
+
+
+def _face_pressures_only(ax, p: dict) -> None:
+    for face, sign, c in (("back", 1, "C0"), ("front", -1, "C1")):
+        for kind, ls in (("static", "-"), ("max", "--"), ("residual", ":")):
+            ax.plot(sign * np.asarray(p[f"{face}_{kind}_kPa"]), p["height_m"], ls, color=c, label=f"{face} {kind}")
+    ax.set_xlabel("pressure [kPa]")
+    ax.set_ylabel("height above the base [m]")
+
+
+def plot_thrusts_by_frequency(series: dict, path) -> Path:
+    """Sizkow & El Shamy's Fig. 5 for every frequency: thrust on both faces [kN/m] against
+    time since the base started to move [s] (``series``: Hz -> series.csv columns)."""
+    def draw(ax, s):
+        ax.plot(s["time_s"], s["thrust_back_kN_per_m"], color="C0", lw=0.8, label="back (active side)")
+        ax.plot(s["time_s"], s["thrust_front_kN_per_m"], color="C1", lw=0.8, label="front (passive side)")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("thrust [kN/m]")
+    return _by_frequency(series, "total soil thrust on both faces (Fig. 5)", draw, path)
+
+
+def plot_K_rotation_by_frequency(series: dict, path, *, K_p: dict | None = None) -> Path:
+    """Sizkow & El Shamy's Fig. 4 (3-6 Hz in the paper): K on the front face 1.5 m below
+    the dredge line, each reading and its mean over one period, against the wall's
+    rotation [deg]; ``K_p``: {label: K} lines."""
+    def draw(ax, s):
+        ax.plot(s["rotation_deg"], s["passive_K_at_1_5m"], lw=0.5, color="0.6", label="each reading")
+        ax.plot(s["rotation_deg"], s["passive_K_period_mean_at_1_5m"], lw=1.3, color="C1",
+                label="mean over one period")
+        for (label, value), ls in zip((K_p or {}).items(), ("--", ":")):
+            ax.axhline(value, ls=ls, color="k", lw=0.9, label=label)
+        ax.set_xlabel("wall rotation [deg]")
+        ax.set_ylabel("K on the front face")
+    return _by_frequency(series, "K 1.5 m below the dredge line vs wall rotation (Fig. 4)", draw, path)
+
+
+def plot_settlement_by_frequency(settlements: dict, path) -> Path:
+    """Sizkow & El Shamy's Fig. 8: ground settlement [mm] against distance from the wall
+    [m], every frequency on one axes (``settlements``: Hz -> settlement.csv columns)."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for f in sorted(settlements):
+        s = settlements[f]
+        ax.plot(s["distance_m"], np.asarray(s["settlement_m"]) * 1e3, "o-", ms=3, label=f"{f:g} Hz")
+    ax.axvline(8.0, color="k", lw=0.8, ls=":", label="8 m (the paper: ~0 beyond)")
+    ax.set_xlabel("distance from the wall [m]")
+    ax.set_ylabel("settlement [mm]")
+    ax.set_title("ground settlement behind the wall (Fig. 8)")
+    ax.invert_yaxis()
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)

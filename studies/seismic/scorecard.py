@@ -13,7 +13,12 @@ TUNED_PHI = "partly by construction: the rolling resistance mu_r 0.25 was calibr
 
 def scorecard_rows(rep: dict, ref: dict, material: dict | None) -> list[Row]:
     return _material_rows(ref, material) + _trend_rows(rep) + _across_rows(rep) + [_full_passive_row(rep, ref),
-                                                                                    _residual_passive_row()]
+                                                                                    _residual_passive_row(rep)]
+
+
+def _run(rep: dict) -> dict:
+    """The frequencies that ran (prototype Hz as written -> record)."""
+    return {f: r for f, r in rep["frequencies"].items() if r != "not run"}
 
 
 def _material_rows(ref: dict, mat: dict | None) -> list[Row]:
@@ -44,7 +49,7 @@ def _material_rows(ref: dict, mat: dict | None) -> list[Row]:
 
 def _trend_rows(rep: dict) -> list[Row]:
     """Each single-frequency trend: held at every frequency run?"""
-    freqs = rep["frequencies"]
+    freqs = _run(rep)
     names = list(next(iter(freqs.values()))["trends"]) if freqs else []
     rows = []
     for name in names:
@@ -66,7 +71,7 @@ def _full_passive_row(rep: dict, ref: dict) -> Row:
     4, 5 and 6 Hz, not at 1 and 3 Hz. Full: the largest K at 1.5 m reaches the Coulomb
     K_P of phi 31 deg with delta = 2 phi / 3 (the highest of the paper's K_P, 6.68)."""
     kp = ref["mononobe_okabe"]["delta_2phi_over_3"]["K_P"]
-    got = {int(f): r["passive_K_max_at_1_5m"] for f, r in rep["frequencies"].items()}
+    got = {int(f): r["passive_K_max_at_1_5m"] for f, r in _run(rep).items()}
     full = {f: k >= kp for f, k in got.items()}
     holds = None if not got else all(full[f] == (f in (4, 5, 6)) for f in full)
     ours = ", ".join(f"{f} Hz K {k:.1f}" for f, k in sorted(got.items()))
@@ -75,7 +80,17 @@ def _full_passive_row(rep: dict, ref: dict) -> Row:
                note="ours reaches K_P at 1 and 3 Hz too" if holds is False else "")
 
 
-def _residual_passive_row() -> Row:
-    return Row("residual passive pressure considerably above the static one", "Conclusions",
-               "residual > static", "", "", "not reproduced", note="the runs record the peak passive K, not the "
-               "residual one")
+def _residual_passive_row(rep: dict) -> Row:
+    """The conclusions: the residual passive pressure well above the initial static one;
+    read as the front face's thrust at the end over the one when the base started to move,
+    at every frequency (the ratios are in the row: 'considerably' is the reader's)."""
+    name, where, paper = "residual passive pressure considerably above the static one", "Conclusions", "residual > static"
+    runs = _run(rep)
+    if not runs or any("thrust_front_residual_kN_per_m" not in r["extra"] for r in runs.values()):
+        return Row(name, where, paper, "", "", "not reproduced", note="these runs did not record the front thrust "
+                   "at the end")
+    ratio = {f: r["extra"]["thrust_front_residual_kN_per_m"] / r["extra"]["thrust_front_static_kN_per_m"]
+             for f, r in runs.items()}
+    return Row(name, where, paper, ", ".join(f"{f} Hz x{v:.2f}" for f, v in ratio.items()),
+               "front thrust residual / static > 1 at every frequency",
+               trend_verdict(all(v > 1.0 for v in ratio.values())))

@@ -123,9 +123,11 @@ def frequency_record(folder: Path, case: SeismicCase | None = None) -> dict:
                     "thrust_back_static_kN_per_m": float(back[0]), "thrust_back_max_kN_per_m": float(back.max()),
                     "thrust_front_static_kN_per_m": float(front[0]),
                     "thrust_front_max_kN_per_m": float(front.max()),
+                    "thrust_front_residual_kN_per_m": float(front[-1]),
                     "mean_thrust_back_kN_per_m": float(back.mean()), "mean_thrust_front_kN_per_m": float(front.mean()),
                     "particles": res["particles"], "steps": res["steps"], "dt_s": res["dt_s"],
-                    "steps_per_s": res["steps_per_s"], "porosity": res["porosity"], "run_folder": str(folder)}
+                    "steps_per_s": res["steps_per_s"], "porosity": res["porosity"], "run_folder": str(folder),
+                    "rest": res.get("rest", {"rest_s": 0.0})}
     case = case or SeismicCase()
     stood, why = stood_before_shaking(series, case.ramp_s, case.wall_length * case.scale_N)
     rec["extra"]["wall_stood_before_shaking"] = stood
@@ -198,6 +200,62 @@ def across_frequencies(freqs: dict) -> dict:
             "largest settlement at 5 Hz": {"held": f_s == 5.0, "numbers": f"largest at {f_s:g} Hz"}}
 
 
+#: what the report's figures show and what to compare them with (the paper's words)
+FIGURE_CAPTIONS = {
+    "fig3_pressures.png": ("Fig. 3", "Static, maximum and residual pressure on both faces at every frequency. "
+                           "The paper: the front (excavated side) pressure rises substantially during shaking, "
+                           "most at 4-6 Hz, whose maximum and residual are alike; much less at 1 and 3 Hz."),
+    "fig4_K_rotation.png": ("Fig. 4", "K on the front face 1.5 m below the dredge line against the wall's "
+                            "rotation, 3-6 Hz as in the paper. The paper: at 4, 5 and 6 Hz the wall rotates "
+                            "enough to mobilise the full passive strength there; at 1 and 3 Hz it does not."),
+    "fig5_thrusts.png": ("Fig. 5", "Total thrust on both faces against time. The paper: the active thrust "
+                         "rises during shaking, and the two thrusts stay equal and opposite."),
+    "fig8_settlement.png": ("Fig. 8", "Settlement of the retained ground against distance from the wall, every "
+                            "frequency. The paper: most settlement next to the wall, almost none beyond 8 m, "
+                            "the largest at 5 Hz."),
+}
+#: each run's own sheets: Figs. 2, 3, 5, 6 and 8 of one frequency; Fig. 4; Fig. 7
+RUN_FIGURES = {"seismic.png": ("Figs. 2, 3, 5, 6, 8", "One frequency: the deformed shape (the paper: mostly a "
+                               "rigid rotation about a point near the toe), face pressures with Mononobe-Okabe, "
+                               "thrusts, bending moments (the paper: maximum and residual well above static), "
+                               "displacements and settlement."),
+               "K_vs_rotation.png": ("Fig. 4", "One frequency: K 1.5 m below the dredge line against rotation."),
+               "shear_strain.png": ("Fig. 7", "Maximum shear strain since the base started to move at 1.5, 2, "
+                                    "3.5 and 9 s. The paper (5 Hz): a Coulomb-like planar failure wedge forms "
+                                    "behind the wall.")}
+
+
+def report_figures(folders: dict, out_dir: Path) -> list[dict]:
+    """The paper's figures from the run folders (Hz -> folder) into ``out_dir``/seismic/:
+    Figs. 3, 4, 5 and 8 with every frequency side by side, and each run's own sheets;
+    returns one record per file (file, the paper's figure, caption)."""
+    from .figures import (plot_K_rotation_by_frequency, plot_pressures_by_frequency, plot_settlement_by_frequency,
+                          plot_thrusts_by_frequency)
+    target = Path(out_dir) / "seismic"
+    if target.exists():
+        shutil.rmtree(target)                       # no figure of an earlier report stays beside these
+    target.mkdir(parents=True)
+    folders = {float(f): Path(d) for f, d in sorted(folders.items())}
+    series = {f: _csv(d / "series.csv") for f, d in folders.items()}
+    made = [plot_pressures_by_frequency({f: _csv(d / "pressure_profiles.csv") for f, d in folders.items()},
+                                        target / "fig3_pressures.png"),
+            plot_thrusts_by_frequency(series, target / "fig5_thrusts.png"),
+            plot_settlement_by_frequency({f: _csv(d / "settlement.csv") for f, d in folders.items()},
+                                         target / "fig8_settlement.png")]
+    fig4 = {f: s for f, s in series.items() if f >= 3.0}
+    if fig4:
+        made.append(plot_K_rotation_by_frequency(fig4, target / "fig4_K_rotation.png"))
+    out = [{"file": f"seismic/{p.name}", "paper": FIGURE_CAPTIONS[p.name][0], "caption": FIGURE_CAPTIONS[p.name][1]}
+           for p in made]
+    for f, d in folders.items():
+        for name, (paper, caption) in RUN_FIGURES.items():
+            if (d / name).is_file():
+                dest = target / f"{f:g}Hz_{name}"
+                shutil.copyfile(d / name, dest)
+                out.append({"file": f"seismic/{dest.name}", "paper": paper, "caption": f"{f:g} Hz. {caption}"})
+    return out
+
+
 def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: Path | None = None,
                  note: str = "") -> dict:
     """seismic.json and seismic.md from run folders by frequency (prototype Hz -> folder);
@@ -219,7 +277,11 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
                        "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
                                  "docs/reference/seismic-sheetpile.md"}
         if old is not None and case.resolution == default and "other_resolutions" in old:
-            rep["other_resolutions"] = old["other_resolutions"]
+            rep["other_resolutions"], superseded = _same_protocol(old["other_resolutions"], case)
+            if superseded:
+                rep["superseded"] = superseded
+        if folders:
+            rep["figures"] = report_figures(folders, out_dir)
     else:
         rep = old
         rep.setdefault("other_resolutions", {})[case.resolution] = block
@@ -231,6 +293,28 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
     path.write_text(json.dumps(rep, indent=1) + "\n")
     (out_dir / "seismic.md").write_text(report_markdown(rep, note))
     return rep
+
+
+def _rest_s(block: dict) -> float:
+    """The rest before shaking (prototype s) of a resolution's runs (0 before it existed)."""
+    return max((r["extra"].get("rest", {"rest_s": 0.0})["rest_s"] for r in block["frequencies"].values()
+                if r != "not run"), default=0.0)
+
+
+def _same_protocol(others: dict, case: SeismicCase) -> tuple[dict, dict]:
+    """(kept, superseded): the other resolutions' blocks whose runs rested as ``case``'s
+    do before shaking, and the others with why they cannot stand beside this report."""
+    kept, gone = {}, {}
+    for name, block in others.items():
+        if _rest_s(block) == case.rest_s:
+            kept[name] = block
+        else:
+            gone[name] = {"git": block["git"], "frequencies": [f for f, r in block["frequencies"].items()
+                                                               if r != "not run"],
+                          "why": f"run with a rest of {_rest_s(block):g} s before shaking (this report: "
+                                 f"{case.rest_s:g} s): its static readings were taken on a wall still moving, "
+                                 "so its ratios to static do not compare; run it again to set it beside"}
+    return kept, gone
 
 
 def scorecard(rep: dict) -> dict:
@@ -334,6 +418,7 @@ def report_markdown(rep: dict, note: str = "") -> str:
                              " How they move with resolution is not measured yet."), ""]
     if "material" in rep:
         lines += material_lines(rep["material"]) + [""]
+    lines += rest_lines(rep)
     if note:
         lines += [note, ""]
     lines += ["| Hz | top displacement [m] | rotation [deg] | pivot / L | M max / static | M residual / static | "
@@ -356,7 +441,40 @@ def report_markdown(rep: dict, note: str = "") -> str:
     for name, t in rep["trends_across_frequencies"].items():
         lines.append(f"| {name} | all | {_held(t)} | {t['numbers']} |")
     lines += resolution_lines(rep)
+    for name, why in rep.get("superseded", {}).items():
+        lines += ["", f"The {name} resolution (git {why['git']}, {', '.join(why['frequencies'])} Hz) is left out: "
+                      f"{why['why']}."]
+    lines += figure_lines(rep.get("figures", []))
     return "\n".join(lines) + "\n"
+
+
+def rest_lines(rep: dict) -> list[str]:
+    """The static state: how the wall moved while the shaken model rested before the base
+    moved (the same static state and rest for every frequency)."""
+    rests = {f: r["extra"].get("rest", {}) for f, r in rep["frequencies"].items() if r != "not run"}
+    if not rests or not any(v.get("rest_s") for v in rests.values()):
+        return []
+    f, r = next(iter(rests.items()))
+    same = all(v == r for v in rests.values())
+    top, back = r["top_displacement_m"], r["thrust_back_kN_per_m"]
+    return ["## The static state", "",
+            f"The static stage settles under local damping 0.7; the shaken model has none, and it rests "
+            f"{r['rest_s']:g} s (prototype) with the base still before the base moves. In the rest the wall top "
+            f"moved {top[0] * 1e3:.1f} -> {top[1] * 1e3:.1f} mm toward the excavation "
+            f"({r['top_change_over_last_fifth_m'] * 1e3:+.1f} mm over its last fifth) and the back thrust "
+            f"{back[0]:.1f} -> {back[1]:.1f} kN/m" + (" (the same at every frequency)." if same else
+                                                     f" ({f} Hz; the other frequencies differ: see the JSON).")
+            + " Every 'static' figure below is the one at the end of the rest.", ""]
+
+
+def figure_lines(figures: list[dict]) -> list[str]:
+    """The figures of the report, each with the paper's figure and what to compare."""
+    if not figures:
+        return []
+    lines = ["", "## Figures", ""]
+    for fig in figures:
+        lines += [f"**{fig['paper']}** ({fig['file']}): {fig['caption']}", "", f"![{fig['paper']}]({fig['file']})", ""]
+    return lines
 
 
 def resolution_lines(rep: dict) -> list[str]:

@@ -130,3 +130,24 @@ def test_the_recording_colours_the_wall_and_holds_the_strain_and_thrusts(tiny_ru
     assert np.allclose(t_boxes.astype(float) / 1e9, result["max_shear_strain"]["times_s"])     # ns -> s
     _, values = readback.read_scalars(rrd, "/metrics/passive_K_at_1_5m")
     assert np.allclose(values, series["passive_K_at_1_5m"][1:], rtol=1e-6)
+
+
+def test_the_report_commits_its_figures_and_says_what_its_json_says(tiny_run, tmp_path):
+    """write_report over run folders: every figure in seismic.json exists under the docs
+    folder and is named with its caption in seismic.md; the static-state line quotes the
+    rest of result.json; the residual-passive row is the front thrust's last reading over
+    its first in series.csv (the paper's conclusions: residual above static)."""
+    from studies.seismic.validate import write_report
+    case, result, folder = tiny_run
+    rep = write_report(case, {3.0: folder, 5.0: folder}, tmp_path)
+    md = (tmp_path / "seismic.md").read_text()
+    assert {f["paper"] for f in rep["figures"]} >= {"Fig. 3", "Fig. 4", "Fig. 5", "Fig. 8"}
+    for fig in rep["figures"]:
+        assert (tmp_path / fig["file"]).stat().st_size > 0
+        assert f"({fig['file']})" in md
+    top = result["rest"]["top_displacement_m"]
+    assert f"moved {top[0] * 1e3:.1f} -> {top[1] * 1e3:.1f} mm" in md
+    s = _csv(folder / "series.csv")
+    ratio = s["thrust_front_kN_per_m"][-1] / s["thrust_front_kN_per_m"][0]
+    row = next(r for r in rep["scorecard"]["rows"] if r["statement"].startswith("residual passive"))
+    assert row["ours"] == f"3 Hz x{ratio:.2f}, 5 Hz x{ratio:.2f}"
