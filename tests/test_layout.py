@@ -209,3 +209,22 @@ def test_viz_names_no_study():
             if name and any(w in name.lower() for w in words):
                 named.append(f"{p.relative_to(ROOT)}:{node.lineno} {name}")
     assert named == []
+
+
+def test_every_reference_file_has_one_schema():
+    """Each study's reference.json: ``source`` (the paper, as text) and ``targets`` (the
+    tolerances and readings of the paper's words the checks use, with their own
+    ``source``: they are wallsim's, not the paper's), whatever else the paper gives."""
+    import json
+
+    from studies import all_studies
+    files = [s.reference_file for s in all_studies() if getattr(s, "reference_file", None)]
+    assert len(files) >= 5
+    for path in files:
+        ref = json.loads(Path(path).read_text())
+        assert isinstance(ref.get("source"), str) and ref["source"], path
+        targets = ref.get("targets")
+        assert isinstance(targets, dict) and isinstance(targets.get("source"), str), path
+        for key, value in targets.items():
+            if not (key == "source" or key.endswith("_note")):
+                assert isinstance(value, (int, float, list)), f"{path}: targets.{key}"

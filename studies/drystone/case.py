@@ -29,8 +29,8 @@ def reference() -> dict:
 
 
 #: the validation's tolerances (reference.json: kept with the targets, out of code)
-ACCURACY_LIMIT_PERCENT = float(reference()["tolerances"]["critical_height_vs_measured_percent"])
-CONVERGENCE_LIMIT_PERCENT = float(reference()["tolerances"]["convergence_change_percent"])
+ACCURACY_LIMIT_PERCENT = float(reference()["targets"]["critical_height_vs_measured_percent"])
+CONVERGENCE_LIMIT_PERCENT = float(reference()["targets"]["convergence_change_percent"])
 
 
 @dataclass(frozen=True)
@@ -230,7 +230,7 @@ def assumptions(case: DrystoneCase) -> list[str]:
                      + (f"; {w['batter_outer_deg']['note']})" if "note" in w["batter_outer_deg"] else ")"))
     elif s.batter_outer_deg:
         lines.append(f"outer batter {s.batter_outer_deg:g} deg (found, read in degrees; 15 % = 8.53 deg possible)")
-    lines.append(f"inner face vertical (ASSUMED)")
+    lines.append("inner face vertical (ASSUMED)")
     if case.joint_slope_deg is not None:
         lines.append(f"joint counter-slope {s.joint_slope_deg:g} deg (set for this run)")
     elif w["joint_slope_deg"]["tag"] == "A" and case.case_b:

@@ -14,7 +14,7 @@ BACK_FIT = ("partly by construction: base widths back-fitted so that the limit e
 
 
 def scorecard_rows(rep: dict, ref: dict) -> list[Row]:
-    tol = ref["tolerances"]["critical_height_vs_measured_percent"] / 100.0
+    tol = ref["targets"]["critical_height_vs_measured_percent"] / 100.0
     rows = []
     for wall, w in ref["walls"].items():
         rows += _case_a(wall, w, rep.get("walls", {}).get(wall), tol)

@@ -353,6 +353,16 @@ class _Progress:
                    _readings_from(state), [float(t) for t in state["shake/pending"]], _snapshots_from(state),
                    int(state["shake/done"]), float(state["shake/seconds"]))
 
+    def take(self, main, table, case: SeismicCase, model) -> None:
+        """A reading now, and the positions when an asked snapshot time is reached."""
+        self.times.append(main.time - self.t0)
+        self.base.append(table.displacement(main.time)[0])
+        self.readings.append(wall_reading(main, case, model))
+        t_proto = case.to_prototype_time(self.times[-1])
+        while self.pending and t_proto >= self.pending[0] - 0.5 * case.record_every:
+            self.snaps.append(Snapshot(self.pending.pop(0), t_proto, int(main.step_count),
+                                       _specimen(main, main.spheres.x)))
+
     def arrays(self, key: str, total: int, every: int, seconds: float, n_spheres: int) -> dict:
         return {"shake/key": np.array(key), "shake/t0": np.array(self.t0),
                 "shake/col_t0": np.array(self.col_t0, float), "shake/total": np.array(total),
@@ -443,13 +453,7 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
         k = min(every, total - run.done)
         step_coupled(main, bnds, k, free_field=free_field, columns=columns, every=case.free_field_every)
         run.done += k
-        run.times.append(main.time - run.t0)
-        run.base.append(table.displacement(main.time)[0])
-        run.readings.append(wall_reading(main, case, prepared.model))
-        t_proto = case.to_prototype_time(run.times[-1])
-        while run.pending and t_proto >= run.pending[0] - 0.5 * case.record_every:
-            run.snaps.append(Snapshot(run.pending.pop(0), t_proto, int(main.step_count),
-                                      _specimen(main, main.spheres.x)))
+        run.take(main, table, case, prepared.model)
         if on_sample is not None:
             on_sample(main, run.readings[-1], run.times[-1], run.base[-1], run.done, total)
         # after the consumer has taken this reading, so a checkpoint holds it too
