@@ -259,7 +259,9 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
     frequencies of the paper without a folder are written as not run. At the default
     resolution the report is rewritten (an earlier ``other_resolutions`` block kept); at
     another, the runs go into ``other_resolutions[<name>]`` of the existing report and are
-    set beside the default resolution's frequency by frequency (``resolution_changes``)."""
+    set beside the default resolution's frequency by frequency (``resolution_changes``).
+    ``note`` (else ``seismic_discussion.md`` beside the report, written by hand) goes in
+    after the material checks."""
     freqs = {f: (frequency_record(folders[f], case) if f in folders else None) for f in PAPER_FREQUENCIES}
     block = {"resolution": case.resolution, "grain_scale": case.scale,
              "frequencies": {f"{f:g}": ({k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
@@ -288,6 +290,9 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
     rep["scorecard"] = scorecard(rep)
     out_dir.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(rep, indent=1) + "\n")
+    discussion = out_dir / "seismic_discussion.md"
+    if not note and discussion.is_file():
+        note = discussion.read_text().strip()          # the hand-written part survives a rerun
     (out_dir / "seismic.md").write_text(report_markdown(rep, note))
     return rep
 
