@@ -151,19 +151,29 @@ def plot_dsm_modes(results: dict, presets: dict, path) -> Path:
     return save_figure(fig, path)
 
 
-def plot_force_chains(frame, path, *, axes=(0, 2), title: str = "", max_lines: int = 40_000) -> Path:
+def plot_force_chains(frame, path, *, axes=(0, 2), title: str = "", max_lines: int = 40_000,
+                      window=None, above: float = 1.0) -> Path:
     """Side view of a frame: grains as light discs, contacts above the mean normal force
     as lines whose width grows with the force (Nadukuru Fig. 3b, Khosravi Fig. 11).
-    ``axes`` picks the two coordinates drawn (x, z for a wall along y)."""
+    ``axes`` picks the two coordinates drawn (x, z for a wall along y); ``window``
+    ((lo, hi) of the first, (lo, hi) of the second) [m] draws only that part, the mean
+    force still of the whole frame; ``above``: contacts above this multiple of that mean."""
     from matplotlib.collections import LineCollection
 
     i, j = axes
     pos = np.asarray(frame.positions)
     fig, ax = plt.subplots(figsize=(8, 6.5))
-    ax.scatter(pos[:, i], pos[:, j], s=2, c="0.8", linewidths=0)
+    if window is not None and pos.shape[1] == 2:       # a close-up of disks: each at its size
+        from matplotlib.collections import EllipseCollection
+        d = 2.0 * np.asarray(frame.radii)
+        ax.add_collection(EllipseCollection(d, d, np.zeros(len(d)), units="xy", offsets=pos[:, [i, j]],
+                                            offset_transform=ax.transData, facecolors="0.85", edgecolors="0.6",
+                                            linewidths=0.2))
+    else:
+        ax.scatter(pos[:, i], pos[:, j], s=2, c="0.8", linewidths=0)
     f = np.asarray(frame.contact_force)
     if len(f):
-        strong = np.nonzero(f > f.mean())[0]
+        strong = np.nonzero(f > above * f.mean())[0]
         strong = strong[np.argsort(f[strong])][-max_lines:]
         a, b = np.asarray(frame.contact_a)[strong], np.asarray(frame.contact_b)[strong]
         segs = np.stack([a[:, [i, j]], b[:, [i, j]]], axis=1)
@@ -175,9 +185,13 @@ def plot_force_chains(frame, path, *, axes=(0, 2), title: str = "", max_lines: i
             pts = c[:, [i, j]] if c.shape[-1] > 2 else c
             ax.plot(pts[:, 0], pts[:, 1], color="navy", lw=2)
     ax.set_aspect("equal")
-    lo, hi = pos[:, [i, j]].min(axis=0), pos[:, [i, j]].max(axis=0)
-    ax.set_xlim(lo[0] - 0.05 * (hi[0] - lo[0]), hi[0] + 0.05 * (hi[0] - lo[0]))
-    ax.set_ylim(lo[1] - 0.05 * (hi[1] - lo[1]), hi[1] + 0.05 * (hi[1] - lo[1]))
+    if window is not None:
+        ax.set_xlim(*window[0])
+        ax.set_ylim(*window[1])
+    else:
+        lo, hi = pos[:, [i, j]].min(axis=0), pos[:, [i, j]].max(axis=0)
+        ax.set_xlim(lo[0] - 0.05 * (hi[0] - lo[0]), hi[0] + 0.05 * (hi[0] - lo[0]))
+        ax.set_ylim(lo[1] - 0.05 * (hi[1] - lo[1]), hi[1] + 0.05 * (hi[1] - lo[1]))
     ax.set_xlabel("x [m]" if i == 0 else "coordinate [m]")
     ax.set_ylabel("z [m]" if j == 2 else "y [m]")
     ax.set_title(title or "force chains: contacts above the mean normal force")

@@ -107,6 +107,8 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
         run, reused = _started(case, rf.path / CHECKPOINT if resume is not None else None,
                                specimens if specimen_cache else None, key, bar, clock)
         rest = run.rest
+        if not run.history:                 # the fill at rest is still there (not a resumed translation)
+            corner_chains(run, rf.file("fig11_corner_chains.png"))
 
         def keep(blob: bytes) -> None:
             atomic_write(rf.file(CHECKPOINT), pickle.dumps({"run": blob, "specimen_reused": reused}))
@@ -134,6 +136,15 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
            wall_friction=case.material.wall_friction, specimen=result["specimen"], specimen_reused=reused,
            **result["timings_s"])
     return result, rf
+
+
+def corner_chains(run: KhosraviRun, path: Path) -> Path:
+    """Fig. 11(b) of the run's fill as it stands now (``figures.plot_corner_chains``)."""
+    from .figures import plot_corner_chains
+    frame = run.frame()
+    wall_x = float(run.sim.walls["wall"].centres()[:, 0].mean())
+    side = 1 if float(np.mean(frame.positions[:, 0])) > wall_x else -1
+    return plot_corner_chains(frame, wall_x, side, run.backfill.H, path)
 
 
 def _started(case: KhosraviCase, saved: Path | None, specimens: Store | None, key: str, bar,

@@ -1,6 +1,6 @@
 """Khosravi et al.'s figures (paper-style PNGs of the run folder and the validation):
-Fig. 9 (backfilling), Fig. 10 (at rest), Fig. 12 (pressure against Dis/H) and Fig. 13
-(profiles against the theories)."""
+Fig. 9 (backfilling), Fig. 10 (at rest), Fig. 11(b) (force chains in the lower corner),
+Fig. 12 (pressure against Dis/H) and Fig. 13 (profiles against the theories)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from viz.figures import THEORY_STYLE, plt, save_figure
+from viz.figures import THEORY_STYLE, plot_force_chains, plt, save_figure
 
 
 def plot_khosravi_at_rest(z_over_H, sigma_norm, path, *, jaky_K: float, ps0=None,
@@ -128,3 +128,21 @@ def plot_khosravi_backfilling(layers, path, *, gamma: float, H: float, group: in
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     return save_figure(fig, path)
+
+
+#: the corner drawn: a square of this fraction of H; contacts drawn above this multiple of
+#: the mean force (the strong network, where arching shows)
+CORNER = 0.3
+CHAIN_ABOVE_MEAN = 2.0
+
+
+def plot_corner_chains(frame, wall_x: float, fill_side: int, H: float, path) -> Path:
+    """Khosravi et al.'s Fig. 11(b): the force chains at rest in the lower corner between
+    the wall (at ``wall_x`` [m], the fill on the side of sign ``fill_side``) and the base,
+    a square of ``CORNER`` H; the paper sees local arching there (chains turning off the wall
+    toward the base), which lowers the at-rest pressure of the lowest cells (Fig. 10)."""
+    x = sorted((wall_x, wall_x + fill_side * CORNER * H))
+    return plot_force_chains(frame, path, axes=(0, 1), window=((x[0] - 0.02 * H, x[1]), (-0.02 * H, CORNER * H)),
+                             above=CHAIN_ABOVE_MEAN,
+                             title=f"Force chains at rest, lower corner (H = {H * 1e3:.0f} mm; Fig. 11b)\n"
+                                   f"contacts above {CHAIN_ABOVE_MEAN:g} x the mean normal force of the whole fill")

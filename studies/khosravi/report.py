@@ -82,7 +82,12 @@ def _time_check(result: dict, goal_min: float) -> dict:
                        f"translation {parts[2] / 60:.1f})", minutes <= goal_min)
 
 
-_FIGURES = ("fig09_backfilling.png", "fig10_at_rest.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png")
+_FIGURES = ("fig09_backfilling.png", "fig10_at_rest.png", "fig11_corner_chains.png", "fig12_pressure_vs_displacement.png",
+            "fig13_profiles.png")
+#: what to compare in a figure that does not say it in its own title
+FIGURE_CAPTIONS = {"fig11_corner_chains": "Fig. 11(b), the strong force network at rest in the lower corner: the "
+                                          "paper sees local arching there (chains turning off the wall toward the "
+                                          "base), which lowers the at-rest pressure of the lowest cells (Fig. 10)"}
 _MANIFEST_KEYS = ("versions", "git", "host", "cpu_count", "wall_time_s")
 
 
@@ -184,11 +189,12 @@ def add_other_height(out_dir: Path, other: Path, reference: Path) -> dict:
     git = json.loads(manifest.read_text()).get("git") if manifest.is_file() else data.get("manifest", {}).get("git")
     report.setdefault("other_heights", {})[H] = {k: res[k] for k in keep if k in res} | {"source": str(other),
                                                                                            "git": git}
-    fig = Path(other).with_name("fig13_profiles.png")
-    if fig.is_file():                      # the paper's Fig. 13 at this height
-        name = f"fig13_profiles_H{H}.png"
-        shutil.copy(fig, out_dir / "khosravi" / name)
-        report["figures"][name] = f"khosravi/{name}"
+    for stem in ("fig13_profiles", "fig11_corner_chains"):      # the paper's Figs. 13 and 11(b) at this height
+        fig = Path(other).with_name(f"{stem}.png")
+        if fig.is_file():
+            name = f"{stem}_H{H}.png"
+            shutil.copy(fig, out_dir / "khosravi" / name)
+            report["figures"][name] = f"khosravi/{name}"
     return _write(report, out_dir, json.loads(Path(reference).read_text()))
 
 
@@ -262,7 +268,8 @@ def _markdown(res: dict, checks: list[dict], figs: dict, manifest: dict, ref: di
         lines.append(f"| {zh:.3f} | {a:.4f} | {b:.4f} |")
     lines += ["", "## Figures", "", *_backfilling_lines(backfilling, res), ""]
     for name, rel in figs.items():
-        lines.append(f"![{name}]({rel})")
+        caption = next((c for stem, c in FIGURE_CAPTIONS.items() if name.startswith(stem)), None)
+        lines += ([f"{caption} ({rel}):", ""] if caption else []) + [f"![{name}]({rel})"]
     lines += ["", "What an impulse solver means for these numbers: see docs/dem2d.md.", ""]
     return "\n".join(lines)
 

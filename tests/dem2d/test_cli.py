@@ -34,7 +34,7 @@ def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, 
     names = {p.name for p in runs[0].iterdir()}
     for f in ("config.toml", "manifest.json", "result.json", "at_rest_panels.csv", "readings_vs_displacement.csv",
               "panels_vs_displacement.csv",
-              "fig10_at_rest.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png"):
+              "fig10_at_rest.png", "fig11_corner_chains.png", "fig12_pressure_vs_displacement.png", "fig13_profiles.png"):
         assert f in names
     # config.toml says where each setting came from and what the run used (as TOML
     # comments, so --config <run>/config.toml still repeats the run)
