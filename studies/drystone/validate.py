@@ -160,6 +160,61 @@ def convergence(case: DrystoneCase, base: dict, root: Path = Path("runs"), log=N
             "wall_time_s": r["wall_time_s"], "cpu_time_s": r["cpu_time_s"]}
 
 
+#: masonry unit weights [kN/m3] of the back-fit rows run besides the default's 20: the
+#: plausible range of reference 2.3, each with its base width fitted again
+BACK_FIT_ROWS = (18.0, 22.0)
+
+
+def refit_base_width(case: DrystoneCase) -> float:
+    """The base width [m] at which the yield-design limit equilibrium of ``case``'s section
+    fails at the measured water height (reference 2.3's back-fit, done again at the case's
+    unit weight; the crest follows from the outer batter)."""
+    from scipy.optimize import brentq
+
+    target = float(reference()["walls"][case.wall]["measured_height_m"]["value"])
+
+    def excess(b: float) -> float:
+        return _le_height(replace(case, base_width_m=b))[0] - target
+    sec = case.section()
+    batter = math.tan(math.radians(sec.batter_outer_deg)) + math.tan(math.radians(sec.batter_inner_deg))
+    # a crest of at least a centimetre on a base longer than one block (the case's limits)
+    narrowest = max(sec.height_m * batter + 0.01, 1.001 * case.block_length)
+    return float(brentq(excess, narrowest, 4.0, xtol=1e-4))
+
+
+def independence(case: DrystoneCase, base: dict, root: Path = Path("runs"), log=None) -> list[dict]:
+    """Whether the DEM follows the section it is given, not the site: the wall on the
+    other rows of the back-fit (unit weights ``BACK_FIT_ROWS``, base widths fitted again so
+    the limit equilibrium fails at the measured height) and on the disk-count section, each
+    DEM beside the limit equilibrium of the same section (``dem_run``, under ``root``);
+    ``base`` is the default run (back-fit, 20 kN/m3), the first row."""
+    cases = [(replace(case, unit_weight_kN_m3=g, base_width_m=refit_base_width(replace(case, unit_weight_kN_m3=g))),
+              "back-fit, refitted") for g in BACK_FIT_ROWS]
+    cases.append((replace(case, geometry="disk-count"), "disk-count"))
+    rows = [_independence_row(case, "back-fit (the report's)", base)]
+    for c, label in cases:
+        rows.append(_independence_row(c, label, dem_run(c, "independence", root, log=log)))
+        if log:
+            log(f"  {label} {c.unit_weight_kN_m3:g} kN/m3, b {rows[-1]['base_width_m']:.3f} m: DEM "
+                f"{rows[-1]['dem_height_m']} m, LE {rows[-1]['le_height_m']:.3f} m")
+    return rows
+
+
+def _independence_row(case: DrystoneCase, label: str, r: dict) -> dict:
+    d, le = r["dem"], r["limit_equilibrium"]
+    above = le["above-fixed-course"]
+    return {"section": label, "unit_weight_kN_m3": case.unit_weight_kN_m3, "height_m": r["section"]["height_m"],
+            "base_width_m": r["section"]["base_width_m"],
+            "crest_width_m": r["section"]["crest_width_m"], "le_height_m": le["yield-design"]["critical_height_m"],
+            "le_stands_to_crest": bool(le["yield-design"]["stands_to_crest"]), "le_mode": le["yield-design"]["mode"],
+            "le_above_fixed_course_m": above["critical_height_m"], "dem_height_m": d["critical_height_m"],
+            "dem_mode": d["mode"], "dem_minus_own_le_m": (d["critical_height_m"] - above["critical_height_m"])
+            if d["critical_height_m"] is not None else None,
+            "increment_m": r["section"]["height_m"] * r["increment_fraction"],
+            "measured_height_m": r["measured"]["height_m"], "error_percent": r["error_percent"],
+            "cpu_time_s": r["cpu_time_s"]}
+
+
 def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: bool, log=None,
                   root: Path = Path("runs")) -> dict:
     """One wall: the default run (with its figures), the convergence repeat, the band;
@@ -175,6 +230,7 @@ def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: b
         log(f"  convergence: {r['convergence']['critical_height_m']} m {r['convergence']['mode']} "
             f"({r['convergence']['change_percent']:.2f} %)")
     r["band"] = band(case, dem_band, log, root)
+    r["independence"] = independence(case, r, root, log) if case.geometry == "back-fit" else None
     return r
 
 
@@ -197,7 +253,7 @@ def entry(r: dict) -> dict:
                                             ["critical_height_m"]) if d["critical_height_m"] is not None else None,
             "increment_m": r["section"]["height_m"] * r["increment_fraction"], "section": r["section"],
             "geometry": r["geometry"], "assumptions": r["assumptions"], "blocks": d["blocks"], "steps": d["steps"],
-            "convergence": conv, "band": r["band"]}
+            "convergence": conv, "band": r["band"], "independence": r["independence"]}
 
 
 def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], band: str = "dem",

@@ -66,3 +66,19 @@ def test_bad_input_is_one_line_and_exit_2(argv, tmp_path, monkeypatch, capsys):
     assert stop.value.code == 2
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
     assert list(tmp_path.iterdir()) == []          # nothing written
+
+
+@pytest.mark.parametrize("gamma,widths", [(18.0, (0.84, 0.74, 1.60, 0.82, 1.80)), (20.0, (0.78, 0.70, 1.49, 0.78, 1.67)),
+                                          (22.0, (0.73, 0.67, 1.41, 0.75, 1.56))])
+def test_the_back_fit_widths_are_reference_2_3s(gamma, widths):
+    """docs/reference/drystone-walls.md 2.3: the base widths (V1L..V5S, 2 decimals) at
+    which the yield-design limit equilibrium fails at the measured water height, at
+    gamma_m 18, 20 (its table) and 22 kN/m3 (its sensitivity list); the independence runs
+    fit them again the same way."""
+    from dataclasses import replace
+
+    from studies.drystone.case import DrystoneCase
+    from studies.drystone.validate import refit_base_width
+    got = [refit_base_width(replace(DrystoneCase(wall=w), unit_weight_kN_m3=gamma))
+           for w in ("V1L", "V2L", "V3L", "V4L", "V5S")]
+    assert got == pytest.approx(widths, abs=0.006)
