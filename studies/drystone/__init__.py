@@ -131,7 +131,8 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
                               run_missing=not opts.finished_only, log=log)
     else:
         rep = validate_drystone(case, out_dir=Path(opts.docs), walls=walls, band=opts.band,
-                                convergence=not opts.no_convergence, log=log, root=Path(opts.out))
+                                convergence=not opts.no_convergence, other_sections=not opts.no_independence, log=log,
+                                root=Path(opts.out))
     return rep, f"report: {Path(opts.docs) / 'drystone.md'}"
 
 
@@ -190,7 +191,8 @@ VALIDATE = Command(
     verb="validate", help="case A: the five walls, convergence and bands (minutes); case B: three walls x two "
                           "seeds under gravel (about 4 h of one core)",
     description="Case A: every wall at the default settings, again with dt / 2 and twice the iterations, and the "
-                "band of critical heights over both geometries, gamma_m 18-22 kN/m3 and alpha 0-8.5 deg. Case B: "
+                "band of critical heights over both geometries, gamma_m 18-22 kN/m3 and alpha 0-8.5 deg, and each "
+                "wall on the other back-fit rows and the disk-count section (whether the DEM follows its section). Case B: "
                 "C2S, C3S and C4L filled to failure on seeds 1 and 2 (35-40 min of one core each; a finished run "
                 "folder of the same resolved case under --out is read instead of run again). Writes "
                 "docs/validation/drystone.{md,json} (the other case kept) and figures. "
@@ -207,6 +209,8 @@ VALIDATE = Command(
              Option("--band", "case A: dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
                     choices=("dem", "le"), default="dem"),
              Option("--no-convergence", "case A: skip the dt / 2, 2 x iterations repeat", switch=True),
+             Option("--no-independence", "case A: skip the runs on the other back-fit rows and the disk-count "
+                    "sections", switch=True),
              *_CASE_OPTIONS[5:],
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs")), VTK))

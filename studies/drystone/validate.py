@@ -1,7 +1,9 @@
 """``wallsim validate drystone --case A``: the five walls at the default settings, the
-solver-convergence repeat (dt / 2, twice the iterations) and the band of critical
+solver-convergence repeat (dt / 2, twice the iterations), the band of critical
 heights over the missing data (both geometries, gamma_m 18-22 kN/m3, alpha 0-8.5 deg for
-the limestone walls) -> docs/validation/drystone.{md,json} and drystone/ figures.
+the limestone walls) and the independence runs (each wall on the other rows of the
+back-fit and on the disk-count section, beside the limit equilibrium of the same section)
+-> docs/validation/drystone.{md,json} and drystone/ figures.
 
 Each DEM run (a wall, its convergence repeat, a band corner) goes into a run folder named
 by its resolved case, ``<root>/drystone/validate-<what>-<key>`` (``dem_run``): the same
@@ -216,9 +218,10 @@ def _independence_row(case: DrystoneCase, label: str, r: dict) -> dict:
 
 
 def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: bool, log=None,
-                  root: Path = Path("runs")) -> dict:
-    """One wall: the default run (with its figures), the convergence repeat, the band;
-    each DEM run in its own run folder under ``root`` (``dem_run``)."""
+                  root: Path = Path("runs"), other_sections: bool = True) -> dict:
+    """One wall: the default run (with its figures), the convergence repeat, the band, the
+    runs on other sections (``independence``); each DEM run in its own run folder under
+    ``root`` (``dem_run``)."""
     r = dem_run(case, "wall", root, figures=True, log=log)
     if log:
         log(f"{case.wall}: DEM {r['dem']['critical_height_m']} m {r['dem']['mode']} "
@@ -230,7 +233,8 @@ def validate_wall(case: DrystoneCase, fig_dir: Path, *, dem_band: bool, check: b
         log(f"  convergence: {r['convergence']['critical_height_m']} m {r['convergence']['mode']} "
             f"({r['convergence']['change_percent']:.2f} %)")
     r["band"] = band(case, dem_band, log, root)
-    r["independence"] = independence(case, r, root, log) if case.geometry == "back-fit" else None
+    r["independence"] = (independence(case, r, root, log) if other_sections and case.geometry == "back-fit"
+                         else None)
     return r
 
 
@@ -257,7 +261,8 @@ def entry(r: dict) -> dict:
 
 
 def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], band: str = "dem",
-                      convergence: bool = True, log=None, root: Path = Path("runs")) -> dict:
+                      convergence: bool = True, other_sections: bool = True, log=None,
+                      root: Path = Path("runs")) -> dict:
     """Every wall in ``walls``; writes drystone.json, drystone.md and drystone/*.png. The
     DEM runs go into run folders under ``root`` (``dem_run``): those that finished before
     are read, not run again."""
@@ -270,7 +275,7 @@ def validate_drystone(case: DrystoneCase, *, out_dir: Path, walls: list[str], ba
     results = {}
     for w in walls:
         results[w] = validate_wall(replace(case, wall=w), fig_dir, dem_band=band == "dem", check=convergence,
-                                   log=log, root=Path(root))
+                                   log=log, root=Path(root), other_sections=other_sections)
     rep = {"case": "A", "study": "drystone", "walls": {w: entry(r) for w, r in results.items()},
            "settings": {"geometry": case.geometry, "dt_s": case.dt, "iterations": case.iterations,
                         "water_direction": case.water_direction, "increment_fraction": case.increment_fraction,

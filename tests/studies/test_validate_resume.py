@@ -78,7 +78,7 @@ def test_an_interrupted_drystone_validation_goes_on_to_the_same_report(monkeypat
     command's drystone.json; once more, it runs nothing."""
     import studies.drystone.validate as V
 
-    argv = ["validate", "drystone", "--walls", "V1L,V2L", "--band", "le", "--no-convergence"]
+    argv = ["validate", "drystone", "--walls", "V1L,V2L", "--band", "le", "--no-convergence", "--no-independence"]
     wall = lambda case: case.wall       # noqa: E731
     straight = _counted(monkeypatch, V, "run_dem", wall)
     assert _validate(monkeypatch, tmp_path / "straight", argv) == 0
