@@ -40,7 +40,8 @@ KEYS = ("top_displacement_m", "rotation_deg", "pivot_height_over_wall_length", "
 #: how the paper's words are read (reference.json "targets", each with its note): the
 #: residual pivot "near the base", the two faces' thrusts "equal and opposite", "almost no
 #: settlement beyond 8 m", and a static failure (trends then not assessed) [A]
-_TARGETS = json.loads(Path(__file__).with_name("reference.json").read_text())["targets"]
+_REFERENCE = json.loads(Path(__file__).with_name("reference.json").read_text())
+_TARGETS = _REFERENCE["targets"]
 PIVOT_NEAR_BASE = float(_TARGETS["pivot_near_base_over_wall_length"])
 THRUST_BALANCE = float(_TARGETS["thrust_balance_rel_tol"])
 FAR_SETTLEMENT = float(_TARGETS["far_settlement_over_wall_settlement"])
@@ -241,7 +242,10 @@ def report_figures(folders: dict, out_dir: Path) -> list[dict]:
                                          target / "fig8_settlement.png")]
     fig4 = {f: s for f, s in series.items() if f >= 3.0}
     if fig4:
-        made.append(plot_K_rotation_by_frequency(fig4, target / "fig4_K_rotation.png"))
+        mo = _REFERENCE["mononobe_okabe"]
+        lines = {"Coulomb K_P, delta 0": mo["delta_0"]["K_P"],
+                 "Coulomb K_P, delta 2 phi / 3 (the scorecard's full passive)": mo["delta_2phi_over_3"]["K_P"]}
+        made.append(plot_K_rotation_by_frequency(fig4, target / "fig4_K_rotation.png", K_p=lines))
     out = [{"file": f"seismic/{p.name}", "paper": FIGURE_CAPTIONS[p.name][0], "caption": FIGURE_CAPTIONS[p.name][1]}
            for p in made]
     for f, d in folders.items():
