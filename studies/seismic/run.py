@@ -324,12 +324,11 @@ def _snapshots_from(state: dict) -> list:
 
 @dataclasses.dataclass
 class _Progress:
-    """Where the shaking is: the engines' clocks when it began, the readings so far,
+    """Where the shaking is: the main engine's clock when it began, the readings so far,
     the snapshot times still to take, the steps done and the wall time of earlier
     sessions [s] (a resumed run's)."""
 
     t0: float
-    col_t0: list
     times: list
     base: list
     readings: list
@@ -339,16 +338,16 @@ class _Progress:
     before: float = 0.0
 
     @classmethod
-    def fresh(cls, main, columns, first, snapshot_times) -> "_Progress":
+    def fresh(cls, main, first, snapshot_times) -> "_Progress":
         """From the model as the rest left it; ``first``: its reading then."""
-        return cls(main.time, [c.time for c in columns], [0.0], [0.0], [first], sorted(snapshot_times), [])
+        return cls(main.time, [0.0], [0.0], [first], sorted(snapshot_times), [])
 
     @classmethod
     def resumed(cls, state: dict, total: int, every: int) -> "_Progress":
         if int(state["shake/total"]) != total or int(state["shake/every"]) != every:
             raise InvalidParameter("resume", f"{int(state['shake/total'])} steps",
                                    f"{total} steps (the same motion and time step)")
-        return cls(float(state["shake/t0"]), [float(t) for t in state["shake/col_t0"]],
+        return cls(float(state["shake/t0"]),
                    [float(t) for t in state["shake/times"]], [float(b) for b in state["shake/base"]],
                    _readings_from(state), [float(t) for t in state["shake/pending"]], _snapshots_from(state),
                    int(state["shake/done"]), float(state["shake/seconds"]))
@@ -365,7 +364,7 @@ class _Progress:
 
     def arrays(self, key: str, total: int, every: int, seconds: float, n_spheres: int) -> dict:
         return {"shake/key": np.array(key), "shake/t0": np.array(self.t0),
-                "shake/col_t0": np.array(self.col_t0, float), "shake/total": np.array(total),
+                "shake/total": np.array(total),
                 "shake/every": np.array(every), "shake/done": np.array(self.done),
                 "shake/times": np.array(self.times, float), "shake/base": np.array(self.base, float),
                 "shake/pending": np.array(self.pending, float), "shake/seconds": np.array(self.before + seconds)} \
@@ -444,7 +443,7 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
     settled = rest(case, prepared, main, columns, bnds, free_field) if resume is None else _rest_from(resume)
     total = int(round(fraction * case.duration / main.dt))
     every = max(1, int(round(case.to_model_time(case.record_every) / main.dt)))
-    run = (_Progress.fresh(main, columns, settled.readings[-1], snapshot_times) if resume is None
+    run = (_Progress.fresh(main, settled.readings[-1], snapshot_times) if resume is None
            else _Progress.resumed(resume, total, every))
     last_checkpoint = time.perf_counter()
     step_of_marks = max(1, int(every_fraction * total))
