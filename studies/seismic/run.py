@@ -376,11 +376,16 @@ def rest_steps(case: SeismicCase, dt: float) -> int:
     return int(round(case.to_model_time(case.rest_s) / dt))
 
 
+def record_steps(case: SeismicCase, dt: float) -> int:
+    """Steps between two readings (``case.record_every`` prototype, time step ``dt`` [s])."""
+    return max(1, int(round(case.to_model_time(case.record_every) / dt)))
+
+
 def rest(case: SeismicCase, prepared: Prepared, main, columns, bnds, free_field) -> Rest:
     """The shaking model (``coupled``) stepped ``case.rest_s`` with the base still, a
     reading every ``record_every``: where the wall stands when the base starts to move."""
     total = rest_steps(case, main.dt)
-    every = max(1, int(round(case.to_model_time(case.record_every) / main.dt)))
+    every = record_steps(case, main.dt)
     main.evaluate_forces()              # once: it advances the contacts' shear history
     readings = [wall_reading(main, case, prepared.model)]
     done = 0
@@ -442,7 +447,7 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
 
     settled = rest(case, prepared, main, columns, bnds, free_field) if resume is None else _rest_from(resume)
     total = int(round(fraction * case.duration / main.dt))
-    every = max(1, int(round(case.to_model_time(case.record_every) / main.dt)))
+    every = record_steps(case, main.dt)
     run = (_Progress.fresh(main, settled.readings[-1], snapshot_times) if resume is None
            else _Progress.resumed(resume, total, every))
     last_checkpoint = time.perf_counter()
