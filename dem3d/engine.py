@@ -339,9 +339,8 @@ class Simulation:
         pax, plen = self._periodic_args()
         if self.bonds is not None:
             kernels.bond_forces(self.spheres, self.bonds, self.dt, pax, plen)
-        kernels.pair_forces(self.spheres, self.pairs, self.params, self.dt, pax, plen, self.mtab)
-        if self.rolling:
-            kernels.rolling_torques(self.spheres, self.pairs, self.params, self.dt, pax, plen, self.mtab)
+        kernels.pair_forces(self.spheres, self.pairs, self.params, self.dt, pax, plen, self.mtab,
+                            True if self.rolling else None)
         kernels.gather_and_move(self.spheres, self.pairs, self.wall_pairs, self.walls.panels, self.params,
                                 self.dt, 0.0, 0.0, 0.0, 0.0, 0.0, False, self.mtab, self.use_f_ext, self.bonds)
         if self.walls.n_panels:

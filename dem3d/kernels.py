@@ -281,7 +281,7 @@ def panel_closest_point(px, py, pz, pan, p):
 # --------------------------------------------------------------------------------------
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
-def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
+def pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling=None):
     """Pass 1 (module docstring): evaluate every half-list pair once. The force and torque
     on the first sphere i are summed into sph.f / sph.t; those on the second sphere j are
     written to the pair's slot in the transposed order (``prs.pf``), which pass 2 adds.
@@ -289,7 +289,13 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
     mtab: None (one material: ``prm`` for every pair; numba compiles this case without
     any lookup, so it is the single-material code unchanged) or a material table
     (nm, nm, 11): the pair's ContactParams are looked up by sph.mat[i], sph.mat[j]
-    (``prm`` then only gives the model-wide law/damping mode, which the table shares)."""
+    (``prm`` then only gives the model-wide law/damping mode, which the table shares).
+    rolling: None (no rolling resistance: the plain code) or True (some contact has
+    mu_roll > 0; the pair history is then 6 wide, the moment on the first sphere in
+    columns 3-5): ``rolling_moment`` on both spheres of every touching pair with
+    mu_roll > 0, from the normal force just computed, in the same visit of the pair (a
+    second pass over the list cost ~70 % of this one); a pair that stops touching
+    forgets its moment with its tangential history."""
     x = sph.x
     v = sph.v
     w = sph.w
@@ -324,6 +330,9 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
         stx = 0.0
         sty = 0.0
         stz = 0.0
+        rtx = 0.0          # the rolling moments, summed apart as the separate pass did
+        rty = 0.0
+        rtz = 0.0
         for k in range(prs.start[i], prs.start[i + 1]):
             j = nbr[k]
             dx = x[j, 0] - xi
@@ -343,6 +352,10 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
                     ut[k, 0] = 0.0
                     ut[k, 1] = 0.0
                     ut[k, 2] = 0.0
+                    if rolling is not None:
+                        ut[k, 3] = 0.0
+                        ut[k, 4] = 0.0
+                        ut[k, 5] = 0.0
                     kt_ = tpos[k]
                     for c in range(8):
                         pf[kt_, c] = 0.0
@@ -397,64 +410,32 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab):
             pf[kt_, 4] = aj * cy
             pf[kt_, 5] = aj * cz
             pf[kt_, 6] = fn
+            if rolling is not None:
+                pr = prm if mtab is None else pair_params(mtab, mat[i], mat[j])
+                if pr.mu_roll > 0.0:
+                    mx, my, mz = rolling_moment(pr, fn, delta, ri * r[j] / rs, wix - w[j, 0], wiy - w[j, 1],
+                                                wiz - w[j, 2], dx / d, dy / d, dz / d,
+                                                ut[k, 3], ut[k, 4], ut[k, 5], dt)
+                    ut[k, 3] = mx
+                    ut[k, 4] = my
+                    ut[k, 5] = mz
+                    rtx += mx
+                    rty += my
+                    rtz += mz
+                    pf[kt_, 3] -= mx
+                    pf[kt_, 4] -= my
+                    pf[kt_, 5] -= mz
         f[i, 0] = sfx
         f[i, 1] = sfy
         f[i, 2] = sfz
-        t[i, 0] = stx
-        t[i, 1] = sty
-        t[i, 2] = stz
-
-
-@njit(parallel=True, cache=True, fastmath=FASTMATH)
-def rolling_torques(sph, prs, prm, dt, pax, plen, mtab):
-    """Pass 1b, only when a contact has rolling resistance (ContactParams.mu_roll > 0;
-    the pair history is then 6 wide, the moment on the first sphere in columns 3-5):
-    ``rolling_moment`` on both spheres of every touching pair, from the normal force
-    pass 1 left in the pair's slot (pf[., 6]); a pair that stopped touching forgets its
-    moment. A separate pass so the plain contact pass is unchanged (and as fast)."""
-    x = sph.x
-    w = sph.w
-    r = sph.r
-    t = sph.t
-    mat = sph.mat
-    nbr = prs.nbr
-    tpos = prs.tpos
-    active = prs.active
-    pf = prs.pf
-    ut = prs.ut
-    for i in prange(x.shape[0]):
-        stx = 0.0
-        sty = 0.0
-        stz = 0.0
-        for k in range(prs.start[i], prs.start[i + 1]):
-            if not active[k]:
-                ut[k, 3] = 0.0
-                ut[k, 4] = 0.0
-                ut[k, 5] = 0.0
-                continue
-            j = nbr[k]
-            pp = prm if mtab is None else pair_params(mtab, mat[i], mat[j])
-            if pp.mu_roll <= 0.0:
-                continue
-            dx, dy, dz = separation(x, i, j, pax, plen)
-            d = math.sqrt(dx * dx + dy * dy + dz * dz)
-            rs = r[i] + r[j]
-            kt_ = tpos[k]
-            mx, my, mz = rolling_moment(pp, pf[kt_, 6], rs - d, r[i] * r[j] / rs, w[i, 0] - w[j, 0],
-                                        w[i, 1] - w[j, 1], w[i, 2] - w[j, 2], dx / d, dy / d, dz / d,
-                                        ut[k, 3], ut[k, 4], ut[k, 5], dt)
-            ut[k, 3] = mx
-            ut[k, 4] = my
-            ut[k, 5] = mz
-            stx += mx
-            sty += my
-            stz += mz
-            pf[kt_, 3] -= mx
-            pf[kt_, 4] -= my
-            pf[kt_, 5] -= mz
-        t[i, 0] += stx
-        t[i, 1] += sty
-        t[i, 2] += stz
+        if rolling is not None:
+            t[i, 0] = stx + rtx
+            t[i, 1] = sty + rty
+            t[i, 2] = stz + rtz
+        else:
+            t[i, 0] = stx
+            t[i, 1] = sty
+            t[i, 2] = stz
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -1486,7 +1467,7 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     att: (spheres, walls) int64 arrays of spheres carried by moving walls, empty for none
     (``move_attached``, after the spheres move, before the walls do; one check per step,
     so it is not a separate specialisation).
-    rolling: some contact has rolling resistance (``rolling_torques`` after pass 1).
+    rolling: some contact has rolling resistance (``pair_forces`` then sums the moments).
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
     that moved a sphere or a panel more than skin/2 since the last list build, or broke a
     bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
@@ -1506,9 +1487,10 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
         broken = 0
         if bnd is not None:
             broken = bond_forces(sph, bnd, dt, pax, plen)
-        pair_forces(sph, prs, prm, dt, pax, plen, mtab)
         if rolling:
-            rolling_torques(sph, prs, prm, dt, pax, plen, mtab)
+            pair_forces(sph, prs, prm, dt, pax, plen, mtab, True)
+        else:
+            pair_forces(sph, prs, prm, dt, pax, plen, mtab, None)
         moved, bad, fast = gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz,
                                            ref_limit2, speed_limit2, True, mtab, has_fext, bnd)
         if has_clumps:
