@@ -26,7 +26,7 @@ from analytic.errors import InvalidParameter
 from . import bodies, bonds, checkpoint, kernels, neighbours
 from .errors import BlowUp
 from .params import N_PARAM_FIELDS, ContactParams, check_time_step, critical_time_step, material_table, pair_params
-from .state import Bonds, Pairs, PanelLoads, Periodic, Specimen, WallMotion, WallPairs
+from .state import Bonds, Pairs, PanelLoads, Periodic, Segments, Specimen, WallMotion, WallPairs
 from .walls import Wall, WallSet
 
 
@@ -269,8 +269,12 @@ class Simulation:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
         return self.original_index[self.bonds.i], self.original_index[self.bonds.j]
 
-    def step(self, n_steps: int = 1, *, record_panels: bool = False):
+    def step(self, n_steps: int = 1, *, record_panels: bool = False, segments: Segments | None = None):
         """Advance ``n_steps`` time steps.
+
+        ``segments``: boundary segments whose velocity the engine sets after every step
+        (``state.Segments``, made by ``dem3d.freefield``); their walls' motions must read
+        their velocity from ``segments.velocity`` (the engine updates it in place).
 
         With ``record_panels`` returns (force, moment), each (n_steps, p, 3): the load on
         every panel at every step (force BY the particles ON the panel [N]; moment about
@@ -281,11 +285,11 @@ class Simulation:
         threads = numba.get_num_threads()
         numba.set_num_threads(max(1, min(threads, self.n_spheres // max(1, self.spheres_per_thread))))
         try:
-            return self._step(int(n_steps), record_panels)
+            return self._step(int(n_steps), record_panels, segments)
         finally:
             numba.set_num_threads(threads)
 
-    def _step(self, n_steps: int, record_panels: bool):
+    def _step(self, n_steps: int, record_panels: bool, segments: Segments | None = None):
         p = self.walls.n_panels
         rows = n_steps if record_panels else 0
         hist_f = np.zeros((rows, p, 3))
@@ -316,7 +320,7 @@ class Simulation:
                 self.spheres, self.clumps, self.pairs, self.wall_pairs, self.walls.panels, self.params,
                 self.dt, gx, gy, gz, pax, plen, self.skin, speed_limit2, motion, loads, todo, self.time,
                 self.mtab, self.use_f_ext, self.bonds,
-                self.attached if self.attached is not None else _NO_ATTACHED, self.rolling)
+                self.attached if self.attached is not None else _NO_ATTACHED, self.rolling, segments)
             done += ran
             self.time = time
             self.step_count += ran

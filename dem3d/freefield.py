@@ -27,9 +27,10 @@ at angular frequency w (keep M small: a few grain masses); surface and oblique w
 absorbed only partly (Kontoe et al. 2009). (2) The segments move independently, so their
 shared edges may open by the slices' relative displacement (small for wave amplitudes).
 (3) The engine has one periodic axis, so a free-field column cannot be periodic in x and
-y at once: give it rigid or laminar side walls and use its central slices. (4) Updating
-between steps costs Python time per step (~0.1 ms); slice averages of the column may be
-refreshed every few steps (``every``), the segments are updated every step.
+y at once: give it rigid or laminar side walls and use its central slices. (4) The
+segments are updated every step, inside the engine (``kernels.segments_velocity``); the
+slice averages of the columns cost Python time (~1 ms a refresh), so they may be
+refreshed every few steps (``every``).
 """
 
 from __future__ import annotations
@@ -42,10 +43,11 @@ from analytic.errors import InvalidParameter
 
 from .engine import Simulation
 from .measure import slice_averages
-from .walls import Motion, Panel, Wall
+from .state import Segments
+from .walls import Motion, Panel, Steady, Wall
 
 
-class _Held:
+class _Held(Steady):
     """A velocity schedule whose value the coupling sets between steps (constant over a
     step): V(t) = value."""
 
@@ -123,32 +125,26 @@ class FreeFieldBoundary:
     def n_slices(self) -> int:
         return len(self.ids)
 
-    def update(self, v_ff: np.ndarray, sigma_ff: np.ndarray) -> None:
-        """Advance each segment's velocity over the next step from the last step's
-        contact forces and the free-field state (v_ff (ns, 3) [m/s], sigma_ff (ns, 3, 3)
-        [Pa], tension positive, sigma_ab = <l_a f_b> as ``measure.slice_averages``, so the
-        traction on the plane of normal n is t_b = n_a sigma_ab) at its slice; call after
-        every step of the main model."""
-        dt = self.sim.dt
+    def free_field_terms(self, v_ff: np.ndarray, sigma_ff: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(A t_ff, A rho C v_ff), each (ns, 3) in the segments' local frames [N]: the
+        free-field part of the segment balance (module docstring) from the free-field
+        state (v_ff (ns, 3) [m/s], sigma_ff (ns, 3, 3) [Pa], tension positive,
+        sigma_ab = <l_a f_b> as ``measure.slice_averages``, so the traction on the plane
+        of normal n is t_b = n_a sigma_ab) at each segment's slice."""
         v_ff = np.asarray(v_ff, float).reshape(self.n_slices, 3)
         sigma_ff = np.asarray(sigma_ff, float).reshape(self.n_slices, 3, 3)
-        force = self.sim.panel_force
-        for s, panels in enumerate(self.panels):
-            f_c = force[panels].sum(axis=0)
-            n_out = -self.frame[s, 0]
-            t_ff = n_out @ sigma_ff[s]                  # t_b = n_a sigma_ab (Love-Weber's l_a f_b)
-            q = self.frame[s]                          # world -> local rows
-            num = (self.mass / dt) * (q @ self.velocity[s]) + q @ f_c + self.area[s] * (q @ t_ff) \
-                + self.area[s] * self.impedance * (q @ v_ff[s])
-            v_local = num / (self.mass / dt + self.area[s] * self.impedance)
-            self.velocity[s] = q.T @ v_local
-            self.motions[s].velocity.value = self.velocity[s].copy()
+        n_out = -self.frame[:, 0]
+        t_ff = np.einsum("sa,sab->sb", n_out, sigma_ff)            # t_b = n_a sigma_ab (Love-Weber's l_a f_b)
+        area = self.area[:, None]
+        return (area * np.einsum("sij,sj->si", self.frame, t_ff),
+                area * self.impedance * np.einsum("sij,sj->si", self.frame, v_ff))
 
 
 def column_free_field(column: Simulation, edges, area: float) -> tuple[np.ndarray, np.ndarray]:
     """(v_ff (ns, 3) [m/s], sigma_ff (ns, 3, 3) [Pa]) of a free-field column in slices
     [edges[k], edges[k+1]) along z with cross-section ``area`` [m^2] (mass-weighted mean
-    velocity and Love-Weber stress, ``measure.slice_averages``): what ``update`` takes."""
+    velocity and Love-Weber stress, ``measure.slice_averages``): what ``step_coupled``'s
+    ``free_field`` returns for one boundary."""
     av = slice_averages(column, edges, area)
     return av.velocity, av.stress
 
@@ -156,16 +152,53 @@ def column_free_field(column: Simulation, edges, area: float) -> tuple[np.ndarra
 def step_coupled(sim: Simulation, boundaries: Sequence[FreeFieldBoundary], n_steps: int, *,
                  free_field: Callable[[], Sequence[tuple[np.ndarray, np.ndarray]]] | None = None,
                  columns: Sequence[Simulation] = (), every: int = 1) -> None:
-    """Advance the main model ``n_steps`` steps with its free-field boundaries, one step
-    at a time, stepping the free-field ``columns`` alongside. ``free_field()`` returns
-    (v_ff, sigma_ff) per boundary (e.g. from ``measure.slice_averages`` of the columns);
-    it is called every ``every`` steps (None: at rest, stress free)."""
-    state = [(np.zeros((b.n_slices, 3)), np.zeros((b.n_slices, 3, 3))) for b in boundaries]
-    for s in range(int(n_steps)):
-        if free_field is not None and s % max(1, int(every)) == 0:
-            state = list(free_field())
-        sim.step(1)
+    """Advance the main model ``n_steps`` steps with its free-field boundaries (the
+    engine sets the segments' velocity after every step, ``state.Segments``), stepping
+    the free-field ``columns`` alongside. ``free_field()`` returns (v_ff, sigma_ff) per
+    boundary (e.g. from ``measure.slice_averages`` of the columns); it is called every
+    ``every`` steps (None: at rest, stress free), and between two calls the main model
+    and each column run in one engine call each."""
+    every = max(1, int(every))
+    seg = segments(boundaries)
+    rows = np.cumsum([0] + [b.n_slices for b in boundaries])
+    for b, lo in zip(boundaries, rows):
+        for k, m in enumerate(b.motions):
+            m.velocity.value = seg.velocity[lo + k]          # a view: the engine updates it
+    s, n_steps = 0, int(n_steps)
+    while s < n_steps:
+        # the columns do not feel the main model: each runs to the next refresh at once
+        block = n_steps - s if free_field is None else min(every - s % every, n_steps - s)
+        if free_field is not None and s % every == 0:
+            _set_free_field(seg, boundaries, rows, free_field())
         for c in columns:
-            c.step(1)
-        for b, (v, sig) in zip(boundaries, state):
-            b.update(v, sig)
+            c.step(block)
+        sim.step(block, segments=seg)
+        s += block
+    for b, lo in zip(boundaries, rows):
+        b.velocity = seg.velocity[lo:lo + b.n_slices].copy()
+        for k, m in enumerate(b.motions):
+            m.velocity.value = b.velocity[k]
+
+
+def segments(boundaries: Sequence[FreeFieldBoundary]) -> Segments:
+    """The engine's record of the boundaries' segments (``state.Segments``), one after
+    the other, each boundary's segments as it holds them now (free-field load zero)."""
+    panels = [p for b in boundaries for p in b.panels]
+    ns = len(panels)
+    return Segments(
+        wall=np.array([k for b in boundaries for k in b.ids], np.int64),
+        panel_start=np.cumsum([0] + [len(p) for p in panels]).astype(np.int64),
+        panel=np.concatenate(panels).astype(np.int64),
+        frame=np.ascontiguousarray(np.concatenate([b.frame for b in boundaries]), float),
+        mass=np.concatenate([np.full(b.n_slices, float(b.mass)) for b in boundaries]),
+        area=np.ascontiguousarray(np.concatenate([b.area for b in boundaries]), float),
+        impedance=np.concatenate([np.tile(b.impedance, (b.n_slices, 1)) for b in boundaries]),
+        traction=np.zeros((ns, 3)), dashpot=np.zeros((ns, 3)),
+        velocity=np.ascontiguousarray(np.concatenate([b.velocity for b in boundaries]), float))
+
+
+def _set_free_field(seg: Segments, boundaries, rows, states) -> None:
+    for b, lo, (v, sig) in zip(boundaries, rows, states):
+        traction, dashpot = b.free_field_terms(v, sig)
+        seg.traction[lo:lo + b.n_slices] = traction
+        seg.dashpot[lo:lo + b.n_slices] = dashpot

@@ -1454,9 +1454,46 @@ def wall_displacement(pan, ref_centre, ref_e1, ref_e2):
     return worst
 
 
+@njit(cache=True, fastmath=FASTMATH)
+def segments_velocity(seg, panel_force, dt):
+    """One step of the free-field segment balance (``state.Segments``; ``dem3d.freefield``
+    module docstring), per local component, the dashpot implicit:
+        V+ = (M V- / dt + F_contacts + A t_ff + A rho C v_ff) / (M / dt + A rho C),
+    F_contacts the last step's force of the spheres on the segment's panels. Updates
+    ``seg.velocity`` in place (world frame)."""
+    vel = seg.velocity
+    q = seg.frame
+    for s in range(vel.shape[0]):
+        p0 = seg.panel[seg.panel_start[s]]
+        fx = panel_force[p0, 0]
+        fy = panel_force[p0, 1]
+        fz = panel_force[p0, 2]
+        for k in range(seg.panel_start[s] + 1, seg.panel_start[s + 1]):
+            fx += panel_force[seg.panel[k], 0]
+            fy += panel_force[seg.panel[k], 1]
+            fz += panel_force[seg.panel[k], 2]
+        m_dt = seg.mass[s] / dt
+        l0 = 0.0
+        l1 = 0.0
+        l2 = 0.0
+        for i in range(3):
+            qv = q[s, i, 0] * vel[s, 0] + q[s, i, 1] * vel[s, 1] + q[s, i, 2] * vel[s, 2]
+            qf = q[s, i, 0] * fx + q[s, i, 1] * fy + q[s, i, 2] * fz
+            num = m_dt * qv + qf + seg.traction[s, i] + seg.dashpot[s, i]
+            v_local = num / (m_dt + seg.area[s] * seg.impedance[s, i])
+            if i == 0:
+                l0 = v_local
+            elif i == 1:
+                l1 = v_local
+            else:
+                l2 = v_local
+        for j in range(3):
+            vel[s, j] = q[s, 0, j] * l0 + q[s, 1, j] * l1 + q[s, 2, j] * l2
+
+
 @njit(cache=True)
 def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed_limit2,
-            walls, loads, n_steps, time, mtab, has_fext, bnd, att, rolling):
+            walls, loads, n_steps, time, mtab, has_fext, bnd, att, rolling, seg):
     """Run up to ``n_steps`` steps (module docstring, passes 1-4, then the walls move).
 
     walls: ``state.WallMotion`` (the motion samples of each step: only rows of moving
@@ -1468,6 +1505,9 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     (``move_attached``, after the spheres move, before the walls do; one check per step,
     so it is not a separate specialisation).
     rolling: some contact has rolling resistance (``pair_forces`` then sums the moments).
+    seg: ``state.Segments`` or None: boundary segments whose velocity each step sets for
+    the next (``segments_velocity``, after the walls move; written into the next step's
+    rows of ``walls``).
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
     that moved a sphere or a panel more than skin/2 since the last list build, or broke a
     bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
@@ -1507,6 +1547,13 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
                 hist_moment[s] = panel_moment
             if any_moving:
                 move_walls(pan, wall_of_panel, moving, pivot, axis, om_mid[s], v_mid[s], om_end[s], v_end[s], dt)
+            if seg is not None:
+                segments_velocity(seg, panel_force, dt)
+                if s + 1 < n_steps:
+                    for g in range(seg.wall.shape[0]):
+                        for c in range(3):
+                            v_mid[s + 1, seg.wall[g], c] = seg.velocity[g, c]
+                            v_end[s + 1, seg.wall[g], c] = seg.velocity[g, c]
         time += dt
         if bad > 0:
             return s + 1, time, STATUS_NONFINITE, bad

@@ -253,3 +253,31 @@ class PanelLoads(NamedTuple):
     moment: np.ndarray
     hist_force: np.ndarray
     hist_moment: np.ndarray
+
+
+class Segments(NamedTuple):
+    """Boundary segments whose velocity ``kernels.advance`` sets after every step from
+    the contact force on them and a fixed free-field load (``dem3d.freefield``: the
+    implicit dashpot balance of its module docstring), so a coupled model runs many
+    steps per call. Segment s is wall ``wall[s]`` (a translation whose velocity is
+    held over a step), its panels ``panel[panel_start[s]:panel_start[s + 1]]``.
+
+    frame:      (ns, 3, 3) rows: the segment's normal and two tangents (world -> local)
+    mass:       (ns,) segment mass M [kg]
+    area:       (ns,) segment area A [m^2]
+    impedance:  (ns, 3) rho C along (normal, tangent, tangent) [kg/(m^2 s)]
+    traction:   (ns, 3) A t_ff, local frame [N] (the free-field stress on the segment)
+    dashpot:    (ns, 3) A rho C v_ff, local frame [N] (the free-field velocity's pull)
+    velocity:   (ns, 3) world frame, the current half step [m/s]; updated in place
+    """
+
+    wall: np.ndarray
+    panel_start: np.ndarray
+    panel: np.ndarray
+    frame: np.ndarray
+    mass: np.ndarray
+    area: np.ndarray
+    impedance: np.ndarray
+    traction: np.ndarray
+    dashpot: np.ndarray
+    velocity: np.ndarray

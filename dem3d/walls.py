@@ -334,8 +334,13 @@ def sine_ramp(amplitude: float, frequency: float, t_up: float, t_hold: float, t_
     return table
 
 
+class Steady:
+    """A velocity schedule that is the same at every time of the steps it is asked for:
+    ``Walls.schedule`` reads it once per call, not at every step."""
+
+
 @dataclass(frozen=True)
-class _Constant:
+class _Constant(Steady):
     value: object
 
     def __call__(self, t: float):
@@ -429,7 +434,15 @@ class WallSet:
         v_mid = np.zeros((n_steps, nw, 3))
         om_end = np.zeros((n_steps, nw))
         v_end = np.zeros((n_steps, nw, 3))
-        movers = [(k, w.motion) for k, w in enumerate(self.walls) if not w.motion.is_fixed]
+        movers = []
+        for k, w in enumerate(self.walls):
+            m = w.motion
+            if m.is_fixed:
+                continue
+            if m.angular_speed is _zero_speed and m.displacement is None and isinstance(m.velocity, Steady):
+                v_mid[:, k] = v_end[:, k] = m.velocity(t0)    # the same value at every time of the steps
+            else:
+                movers.append((k, m))
         if not movers:
             return om_mid, v_mid, om_end, v_end
         t = t0
