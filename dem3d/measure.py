@@ -253,6 +253,77 @@ def _min_image(sim: Simulation, d: np.ndarray) -> np.ndarray:
     return d
 
 
+@njit(cache=True)
+def _branch(x, r, i, j, pax, plen):
+    """Branches from the centres of i and j to their contact point (the middle of the
+    overlap), as ``contact_branches`` computes them."""
+    d0 = x[j, 0] - x[i, 0]
+    d1 = x[j, 1] - x[i, 1]
+    d2 = x[j, 2] - x[i, 2]
+    if pax == 0:
+        d0 -= plen * np.round(d0 / plen)
+    elif pax == 1:
+        d1 -= plen * np.round(d1 / plen)
+    elif pax == 2:
+        d2 -= plen * np.round(d2 / plen)
+    dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    n0 = d0 / dist
+    n1 = d1 / dist
+    n2 = d2 / dist
+    h = 0.5 * (r[i] + r[j] - dist)
+    a = r[i] - h
+    b = -(r[j] - h)
+    return a * n0, a * n1, a * n2, b * n0, b * n1, b * n2
+
+
+@njit(cache=True)
+def _add_outer(stress, s, l0, l1, l2, f0, f1, f2):
+    if s < 0 or s >= stress.shape[0]:
+        return
+    ls = (l0, l1, l2)
+    fs = (f0, f1, f2)
+    for a in range(3):
+        for b in range(3):
+            stress[s, a, b] += ls[a] * fs[b]
+
+
+@njit(cache=True)
+def _love_weber_sums(stress, slice_of, x, r, start, nbr, active, tpos, pf, wstart, wactive, wout,
+                     bi, bj, bstate, bout, pax, plen):
+    """stress[s] += l (x) f over every contact force on a sphere of slice s (rows in
+    ``contact_branches``'s order: the first spheres of the pairs, their second spheres,
+    the panel contacts, the bonds' first and second spheres), summed in that order."""
+    n = start.shape[0] - 1
+    for side in range(2):
+        for i in range(n):
+            for k in range(start[i], start[i + 1]):
+                if not active[k]:
+                    continue
+                j = nbr[k]
+                ai0, ai1, ai2, aj0, aj1, aj2 = _branch(x, r, i, j, pax, plen)
+                f0 = pf[tpos[k], 0]
+                f1 = pf[tpos[k], 1]
+                f2 = pf[tpos[k], 2]
+                if side == 0:
+                    _add_outer(stress, slice_of[i], ai0, ai1, ai2, -f0, -f1, -f2)
+                else:
+                    _add_outer(stress, slice_of[j], aj0, aj1, aj2, f0, f1, f2)
+    for i in range(wstart.shape[0] - 1):
+        for k in range(wstart[i], wstart[i + 1]):
+            if wactive[k]:
+                _add_outer(stress, slice_of[i], wout[k, 3] - x[i, 0], wout[k, 4] - x[i, 1], wout[k, 5] - x[i, 2],
+                           wout[k, 0], wout[k, 1], wout[k, 2])
+    for side in range(2):
+        for b in range(bi.shape[0]):
+            if bstate[b] != 1:
+                continue
+            ai0, ai1, ai2, aj0, aj1, aj2 = _branch(x, r, bi[b], bj[b], pax, plen)
+            if side == 0:
+                _add_outer(stress, slice_of[bi[b]], ai0, ai1, ai2, bout[b, 0], bout[b, 1], bout[b, 2])
+            else:
+                _add_outer(stress, slice_of[bj[b]], aj0, aj1, aj2, bout[b, 6], bout[b, 7], bout[b, 8])
+
+
 class SliceAverages(NamedTuple):
     """Averages over slices between ``edges`` along one axis.
 
@@ -289,13 +360,14 @@ def slice_averages(sim: Simulation, edges, area: float, axis: int = 2) -> SliceA
     mass = np.bincount(s[inside], weights=m[inside], minlength=ns)
     vel = np.stack([np.bincount(s[inside], weights=(m * sph.v[:, d])[inside], minlength=ns) for d in range(3)],
                    axis=1) / np.where(mass > 0, mass, 1.0)[:, None]
-    who, branch, force = contact_branches(sim)
     stress = np.zeros((ns, 3, 3))
-    if len(who):
-        ss = s[who]
-        ok = (ss >= 0) & (ss < ns)
-        outer = branch[ok, :, None] * force[ok, None, :]
-        np.add.at(stress, ss[ok], outer)
+    prs, wps, bnd = sim.pairs, sim.wall_pairs, sim.bonds
+    pax, plen = (sim.periodic.axis, sim.periodic.length) if sim.periodic is not None else (-1, 0.0)
+    no_bonds = (np.zeros(0, np.int64), np.zeros((0, 12)))
+    _love_weber_sums(stress, s, sph.x, sph.r, prs.start, prs.nbr, prs.active, prs.tpos, prs.pf,
+                     wps.start, wps.active, wps.out, *((bnd.i, bnd.j, bnd.state, bnd.out) if bnd is not None
+                                                      else (no_bonds[0], no_bonds[0], no_bonds[0], no_bonds[1])),
+                     pax, plen)
     volume = float(area) * np.diff(edges)
     stress /= volume[:, None, None]
     return SliceAverages(0.5 * (edges[1:] + edges[:-1]), vel, stress, mass)
