@@ -87,9 +87,9 @@ COMPARE = Command(
                 "(3 s ramp, 4 s hold, 1 s decay). Results in prototype units with Mononobe-Okabe. "
                 "The grains carry a rolling resistance (mu_r 0.25, an assumption calibrated so the deposit's "
                 "triaxial gives phi ~31 deg as the paper's sand; friction alone gives ~18 and the wall fails). "
-                "The coarse resolution (~16k spheres) takes about 26 min of one core a frequency, the 1 s rest before "
-                "shaking included (the static state 3-6 min more, cached for other frequencies); medium ~2.2 h, "
-                "paper ~34 h (estimated). "
+                "The coarse resolution (~16k spheres) takes about 20 min of one core a frequency, the 1 s rest before "
+                "shaking included (the static state 3-6 min more, cached for other frequencies); medium ~1.5 h, "
+                "paper ~23 h (estimated). "
                 "Example: wallsim compare seismic --freq 5 --resolution coarse",
     default_case=_default_case, run=_compare, text=_text, busy_note=True,
     scale_note=lambda case, result: scale_note(case),
@@ -122,7 +122,7 @@ VALIDATE = Command(
     description="Runs 1, 3, 4, 5 and 6 Hz (prototype) at one resolution and writes "
                 "docs/validation/seismic.{md,json}: per frequency the wall's residual displacement, rotation "
                 "and pivot, moments over static, passive K at 1.5 m below the dredge line, settlement; each "
-                "of the paper's trends held / not held / not run. About 26 min of one core per frequency at "
+                "of the paper's trends held / not held / not run. About 20 min of one core per frequency at "
                 "the coarse resolution. Example: wallsim validate seismic --freqs 5,4",
     default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True,
     options=(Option("--freqs", "frequencies, prototype [Hz] (1,3,4,5,6)", default=[1.0, 3.0, 4.0, 5.0, 6.0],

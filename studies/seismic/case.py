@@ -43,8 +43,8 @@ class SeismicCase:
     the reference's assumptions (reference.json tags each)."""
 
     # Size bounds: the coarse default is ~16,000 spheres (13,392 + 2,581 in the free-field
-    # columns) and ~3.8e5 steps of 4.7e-7 s, ~1,400 s of one core at 4.1e6 particle-steps per
-    # CPU-s (docs/validation/seismic.md); the spheres go as the soil volume over the grain
+    # columns) and ~3.8e5 steps of 4.7e-7 s, ~1,000 s of one core at 6.5e6 particle-steps per
+    # CPU-s (docs/validation/seismic_step_speed.json); the spheres go as the soil volume over the grain
     # volume, the steps as the model duration over dt (dt ~ the smallest grain's Hertz step).
     # Each estimate below is that run with one field at its bound.
     frequency: float = param(5.0, unit="Hz", lo=0, hi=20, lo_open=True, hi_open=True,
@@ -58,24 +58,24 @@ class SeismicCase:
                           meaning="prototype time the shaking model (free-field boundaries, viscous damping) "
                                   "rests before the base moves; the static reading is taken at its end (1 [A])")
     # the dynamic stage lasts max(end_s, ramp + hold + decay): 180 s prototype is 20x the 9 s
-    # default, ~8 h of one core at the coarse default
+    # default, ~6 h of one core at the coarse default
     ramp_s: float = param(3.0, unit="s", lo=0, hi=60, hi_open=True,
                           meaning="linear ramp up of the base motion, prototype (3 [A])")
     hold_s: float = param(4.0, unit="s", lo=0, hi=60, hi_open=True,
                           meaning="full-amplitude part of the base motion, prototype (4)")
     decay_s: float = param(1.0, unit="s", lo=0, hi=60, hi_open=True,
                            meaning="linear ramp down of the base motion, prototype (1 [A])")
-    # 120 s: 13x the default's steps, ~5 h at the coarse default
+    # 120 s: 13x the default's steps, ~3.5 h at the coarse default
     end_s: float = param(9.0, unit="s", lo=0, hi=120, lo_open=True, hi_open=True,
                          meaning="analysis length from the start of shaking, prototype (9)")
-    # the model duration goes as 1 / N: at N = 1 the 9 s are 50x the default's steps, ~19 h coarse
+    # the model duration goes as 1 / N: at N = 1 the 9 s are 50x the default's steps, ~13 h coarse
     scale_N: float = param(50.0, lo=1, hi=500, hi_open=True, meaning="g-level N of the centrifuge model (50)")
     resolution: Literal["coarse", "medium", "paper"] = param(
         "coarse", unit="", meaning="grain-scale preset: coarse 3x the paper's grains, medium 2x, paper 1x")
-    # 0.5: 8x the paper's ~3.6e5 spheres (~2.9e6, a few GB) and 2x its steps: ~3 weeks of one core
+    # 0.5: 8x the paper's ~3.6e5 spheres (~2.9e6, a few GB) and 2x its steps: ~2 weeks of one core
     grain_scale: float = param(0.0, lo=0, hi=8,
                                meaning="grains and wall balls x this; 0: the resolution's (otherwise at least 0.5)")
-    # the spheres go as retained_height x (front + behind): 1 m is ~5.6x the default's, ~2.5 h coarse
+    # the spheres go as retained_height x (front + behind): 1 m is ~5.6x the default's, ~1.7 h coarse
     # (50 m prototype at 50 g)
     retained_height: float = param(0.18, unit="m", lo=0, hi=1, lo_open=True,
                                    meaning="soil height behind the wall (0.18)")
@@ -83,15 +83,15 @@ class SeismicCase:
                                 meaning="soil height in front after excavation, below retained_height (0.12)")
     wall_length: float = param(0.135, unit="m", lo=0, hi=1, lo_open=True, hi_open=True,
                                meaning="sheet-pile length, top flush with the retained surface (0.135)")
-    # 2 m behind or in front: ~4x the default's spheres, ~1.5 h coarse
+    # 2 m behind or in front: ~4x the default's spheres, ~1 h coarse
     behind: float = param(0.40, unit="m", lo=0, hi=2, lo_open=True,
                           meaning="lateral boundary distance behind the wall (0.40)")
     front: float = param(0.14, unit="m", lo=0, hi=2, lo_open=True,
                          meaning="lateral boundary distance in front of the wall (0.14)")
-    # 0.5 m: ~17x the default's spheres (~2.7e5), ~7 h coarse
+    # 0.5 m: ~17x the default's spheres (~2.7e5), ~5 h coarse
     width: float = param(0.03, unit="m", lo=0, hi=0.5, lo_open=True,
                          meaning="periodic slab thickness, at least three cells of the largest grain (0.03)")
-    # 5e-4 m: ~2.4x the spheres and ~3x the steps of the default (dt ~ the smallest grain), ~3 h coarse
+    # 5e-4 m: ~2.4x the spheres and ~3x the steps of the default (dt ~ the smallest grain), ~2 h coarse
     d_min: float = param(1.5e-3, unit="m", lo=5e-4,
                          meaning="smallest grain diameter at the paper's resolution (1.5e-3)")
     d_max: float = param(2.5e-3, unit="m", lo=5e-4,
