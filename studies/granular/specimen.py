@@ -18,10 +18,10 @@ import numpy as np
 
 import dem3d
 from analytic.constants import G
-from analytic.errors import InvalidParameter
 from dem3d import measure
 
 from ..config import with_current_names
+from .cloud import loose_cloud
 from .recipe import SpecimenRecipe, contact_law, frictional_law, time_step
 from ..store import Store, content_key
 from ..progress import step_with_progress
@@ -115,29 +115,22 @@ def prepare_specimen(case: WallCase, progress=None) -> Specimen:
 
 
 def _loose_fill(rec: SpecimenRecipe, wall: WallSetup, scale: float, rng) -> tuple[dem3d.Specimen, float]:
-    """The bodies placed at random (the only draws from ``rng``) in L x w x gen_height,
-    and gen_height [m]: tall enough for a solid fraction of 0.2, since random addition
-    jams near 0.25-0.38. ``scale`` multiplies the recipe's diameters (``grain_scale``)."""
+    """The bodies placed at random (``cloud.loose_cloud``) in L x w x gen_height, and
+    gen_height [m]: tall enough for a solid fraction of 0.2 (coarse grains in a narrow
+    box jam before it: 800 and 1,000 particles did; then a taller, looser cloud).
+    ``scale`` multiplies the recipe's diameters (``grain_scale``)."""
     L, H, w = wall.backfill_length, wall.rained_height, wall.width
     n_bodies = int(round(rec.particles / (1.0 + rec.clump_fraction)))
-    for fraction in GENERATION_FRACTIONS:
-        gen_height = (1.0 - rec.target_porosity) * H * OVERFILL / fraction
-        lo = np.array([0.0, 0.0, 0.0]) + 1e-3
-        hi = np.array([L, w, gen_height]) - 1e-3
-        try:
-            spec = dem3d.random_specimen(rng, lo, hi, n_bodies, scale * rec.d_min, scale * rec.d_max,
-                                         clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
-                                         density=rec.density)
-            return spec, gen_height
-        except InvalidParameter:
-            # coarse grains in a narrow box jam before 0.2 (800 and 1,000 particles did):
-            # a taller, looser cloud, drawn on from the same generator
-            continue
-    raise InvalidParameter("particles", rec.particles, "a count whose grains fit the generation box",
-                           f"random placement jammed even at a solid fraction of {GENERATION_FRACTIONS[-1]}")
 
+    def gen_height(fraction: float) -> float:
+        return (1.0 - rec.target_porosity) * H * OVERFILL / fraction
 
-#: solid fractions of the loose cloud, tried in turn (0.2 first: every earlier specimen)
+    spec, fraction = loose_cloud(rng, np.array([0.0, 0.0, 0.0]) + 1e-3,
+                                 lambda f: np.array([L, w, gen_height(f)]) - 1e-3, GENERATION_FRACTIONS, n_bodies,
+                                 scale * rec.d_min, scale * rec.d_max, density=rec.density,
+                                 clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
+                                 what=("particles", rec.particles))
+    return spec, gen_height(fraction)
 
 
 class _StageLog:

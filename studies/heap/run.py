@@ -19,6 +19,8 @@ from analytic.constants import G
 from dem3d import measure
 from studies.store import content_key
 
+from ..granular.cloud import loose_cloud
+
 from .case import (GENERATION_FRACTIONS, HeapCase, contact, fill_height, subsidence_duration, subsidence_motion,
                    time_step, walls, base_ids)
 from .measures import (Shape, base_stress, centre_drop, centre_over_peak, heap_porosity, heap_shape, heap_speed,
@@ -84,21 +86,17 @@ CHECKPOINT_EVERY_FRACTION = 0.1
 RECORD_EVERY = 200
 
 
-def loose_cloud(case: HeapCase, rng) -> tuple[dem3d.Specimen, float]:
-    """Bodies placed at random over the base up to a height for a solid fraction of 0.25
-    (0.2, 0.15 if that jams); returns the specimen and that height [m]."""
+def generate(case: HeapCase, rng) -> tuple[dem3d.Specimen, float]:
+    """Bodies placed at random over the base (``granular.cloud.loose_cloud``) up to a height
+    for a solid fraction of 0.25 (0.2, 0.15 if that jams); returns the specimen and that
+    height [m]."""
     half = 0.5 * case.base_length
     h = fill_height(case) * (1.0 - case.target_porosity)
-    for fraction in GENERATION_FRACTIONS:
-        top = h / fraction
-        try:
-            spec = dem3d.random_specimen(rng, (-half + 1e-3, 1e-3, 1e-3), (half - 1e-3, case.width - 1e-3, top),
-                                         case.bodies, case.d_min, case.d_max, clump_fraction=case.clump_fraction,
-                                         clump_overlap=case.clump_overlap, density=case.density)
-            return spec, top
-        except InvalidParameter:
-            continue
-    raise InvalidParameter("particles", case.particles, "a count whose grains fit the generation box")
+    spec, fraction = loose_cloud(rng, (-half + 1e-3, 1e-3, 1e-3), lambda f: (half - 1e-3, case.width - 1e-3, h / f),
+                                 GENERATION_FRACTIONS, case.bodies, case.d_min, case.d_max, density=case.density,
+                                 clump_fraction=case.clump_fraction, clump_overlap=case.clump_overlap,
+                                 what=("particles", case.particles))
+    return spec, h / fraction
 
 
 def rain(case: HeapCase, log: StageLog, progress=None) -> dem3d.Simulation:
@@ -346,7 +344,7 @@ class _Run:
     def _fall(self, fresh: bool) -> None:
         case = self.case
         if fresh:
-            spec, top = loose_cloud(case, np.random.default_rng(case.seed))
+            spec, top = generate(case, np.random.default_rng(case.seed))
             dt = time_step(case)
             self.sim = dem3d.Simulation(spec, contact(case, 0.0), dt=dt, walls=walls(case, ends=True),
                                         periodic=dem3d.Periodic(1, 0.0, case.width))

@@ -29,10 +29,11 @@ from typing import NamedTuple
 import numpy as np
 
 import dem3d
-from dem3d import Periodic, Simulation, Specimen, Wall, hertz_mindlin, plane, random_specimen, settle
+from dem3d import Periodic, Simulation, Specimen, Wall, hertz_mindlin, plane, settle
 from dem3d.cantilever import calibrate_strip
 from dem3d.freefield import free_field_walls
 
+from ..granular.cloud import loose_cloud
 from .case import SeismicCase, wall_ball_density, wall_youngs_effective
 
 #: solid fraction of the loose random generation (random sequential addition jams ~0.38)
@@ -177,18 +178,18 @@ def _deposition_law(case: SeismicCase, softening: float, friction: float, local_
 
 
 def _generate(case: SeismicCase, rng, lo, hi, n: int, height: float):
-    """n grains placed at random in a box of the deposit's plan over a height that puts
-    them at ``_GENERATION_SOLIDS`` (a looser box when a narrow one jams)."""
-    from analytic.errors import InvalidParameter
-    for solids in (_GENERATION_SOLIDS, 0.75 * _GENERATION_SOLIDS, 0.5 * _GENERATION_SOLIDS):
+    """n grains placed at random (``granular.cloud.loose_cloud``) in a box of the deposit's
+    plan over a height that puts them at ``_GENERATION_SOLIDS`` (a looser box when a
+    narrow one jams); returns the specimen and the box's top corner."""
+    def top_corner(solids: float) -> np.ndarray:
         gen_hi = hi.copy()
         gen_hi[2] = height * 1.04 * (1.0 - case.porosity) / solids
-        try:
-            return random_specimen(rng, lo, gen_hi, n, *case.grains, density=case.grain_density), gen_hi
-        except InvalidParameter:
-            if solids == 0.5 * _GENERATION_SOLIDS:
-                raise
-    raise AssertionError("unreachable")
+        return gen_hi
+
+    spec, solids = loose_cloud(rng, lo, top_corner,
+                               (_GENERATION_SOLIDS, 0.75 * _GENERATION_SOLIDS, 0.5 * _GENERATION_SOLIDS), n,
+                               *case.grains, density=case.grain_density, what=("grain_scale", case.scale))
+    return spec, top_corner(solids)
 
 
 def _porosity(x, r, lo, hi, axis, length) -> float:

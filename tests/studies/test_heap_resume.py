@@ -80,7 +80,7 @@ def test_a_resumed_heap_run_is_the_straight_one_bit_for_bit(monkeypatch):
         by_stage.setdefault(M.checkpoint_stage(state)[0], []).append(state)
     assert tuple(by_stage) == M.STAGES
     assert all(M.checkpoint_stage(s)[1] < case.average_steps for s in by_stage["after"])   # none at the end
-    monkeypatch.setattr(M, "loose_cloud", _not_again)          # a resume places no cloud
+    monkeypatch.setattr(M, "generate", _not_again)          # a resume places no cloud
     for stage, taken in by_stage.items():
         middle = taken[len(taken) // 2]
         resumed = M.run_heap(case, resume=_via_file(middle))
@@ -155,7 +155,7 @@ def test_an_interrupted_compare_resumes_on_the_command_line_to_the_straight_runs
     stage, done = M.checkpoint_stage(load_npz(folder / CHECKPOINT))
     assert stage == "slump" and 0 < done < int(SMALL["slump_time"] / M.time_step(case))
 
-    monkeypatch.setattr(M, "loose_cloud", _not_again)          # the resume goes on from the flow
+    monkeypatch.setattr(M, "generate", _not_again)          # the resume goes on from the flow
     resumed = _cli_result(["compare", "heap", "--resume", str(folder)])
     assert Path(resumed["run_folder"]).resolve() == folder.resolve()
     assert not (folder / "checkpoints").exists()
