@@ -1,5 +1,7 @@
 """Granular blocks shared by the studies of a wall and its backfill (3D, dem3d).
 
+* ``cloud``     the loose cloud every rained specimen starts from (the heap's and the
+                seismic deposit's too)
 * ``recipe``    the sphere-and-clump backfill (``SpecimenRecipe``: grains, contacts,
                 raining; Nadukuru & Michalowski's mixture by default), its contact law
                 and time step
