@@ -4,7 +4,7 @@ tuned): Vs and f0 of both free-field columns of the prepared static state (paper
 35-140 kPa (paper: ~31 deg at porosity 0.40), at the case's rolling resistance and
 across mu_r (and friction alone) to show how phi moves with it. Uses the static state
 cached by ``wallsim compare seismic`` under ``--runs`` (prepares it if absent). See
-studies/seismic/material.py.
+studies/seismic/calibrate.py.
 
     NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/seismic_material.py --runs runs \\
         --out docs/validation/seismic_material.json
@@ -22,7 +22,7 @@ import numba
 
 from studies.runfolder import package_versions
 from studies.seismic.case import SeismicCase
-from studies.seismic.material import shear_wave, triaxial
+from studies.seismic.calibrate import shear_wave, triaxial
 from studies.seismic.run import prepare
 
 

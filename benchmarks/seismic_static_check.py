@@ -10,7 +10,7 @@ from pathlib import Path
 from studies.seismic.case import SeismicCase
 from studies.seismic.run import prepare, coupled, shake
 from studies.seismic.measures import wall_reading
-from studies.seismic import model as M
+from studies.seismic import specimen as M
 from dem3d import Simulation
 mode = sys.argv[1] if len(sys.argv) > 1 else "fixed"
 case = dataclasses.replace(SeismicCase(), amplitude_g=1e-9)

@@ -39,7 +39,7 @@ import numpy as np
 from pathlib import Path
 from studies.seismic.case import SeismicCase
 from studies.seismic.run import prepare, coupled
-from studies.seismic import model as M
+from studies.seismic import specimen as M
 from dem3d.freefield import step_coupled, column_free_field
 steps, cache = int(sys.argv[1]), Path(sys.argv[2])
 case = SeismicCase()

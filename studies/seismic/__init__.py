@@ -2,18 +2,15 @@
 over 6 m (prototype), a 50 g centrifuge model in 3D DEM with free-field lateral
 boundaries, its base shaken by 0.1 g sinusoids of 1-6 Hz (prototype).
 
-Modules: ``case`` (the record in model units, resolution presets, centrifuge scaling),
-``model`` (deposit, wall, excavation, boundaries, base motion), ``run`` (static state,
-cached; the shaking), ``measures`` (wall, faces, moments, settlement, Mononobe-Okabe),
-``compare`` (one frequency: run folder, tables, figures, recording). Data and every
-assumption: docs/reference/seismic-sheetpile.md, reference.json.
-
-``material`` measures Vs / f0 of the free-field columns and phi from a triaxial at the
-case's contact parameters; ``validate`` runs the paper's frequencies and writes
-docs/validation/seismic.{md,json}.
-
-Not done yet: how the results move between two resolutions and across the
-assumed rolling resistance.
+Modules (the study layout, docs/architecture.md): ``case`` (the record in model units,
+resolution presets, centrifuge scaling), ``specimen`` (the model built: deposit, wall,
+excavation, boundaries, base motion), ``run`` (static state, cached; the shaking),
+``measures`` (wall, faces, moments, settlement, Mononobe-Okabe), ``compare`` (one
+frequency: run folder, tables, figures, recording), ``calibrate`` (the material checks:
+Vs / f0 of the free-field columns, phi from a triaxial at the case's contact
+parameters), ``validate`` (the paper's frequencies -> docs/validation/seismic.{md,json}),
+``figures``, ``scorecard``. Data and every assumption: docs/reference/seismic-sheetpile.md,
+reference.json.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The seismic run as stages (model.py builds, measures.py reads):
+"""The seismic run as stages (specimen.py builds, measures.py reads):
 
 ``prepare`` -> the static state (deposit, wall, excavation, settled under N g) and the
 two free-field columns, cached in a ``Store`` under a content key of every case field
@@ -25,7 +25,7 @@ from dem3d import Periodic, Simulation, Specimen, Wall, plane, settle
 from dem3d.freefield import FreeFieldBoundary, column_free_field, step_coupled
 
 from ..store import Store, content_key
-from . import model as M
+from . import specimen as M
 from .case import SeismicCase
 from .measures import WallReading, wall_reading
 

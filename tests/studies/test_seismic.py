@@ -83,7 +83,7 @@ def _held_thrusts(case, prep, count, every):
     """Mean back and front thrusts [N/m] of ``count`` readings ``every`` steps apart of the
     static state held: base and boundaries fixed, no local damping."""
     from dem3d import Simulation
-    from studies.seismic import model as M
+    from studies.seismic import specimen as M
     from studies.seismic.measures import wall_reading
     sim = Simulation.from_arrays(prep.main, walls=M.boundary_walls(case))
     sim.set_params(M.contact_law(case), allow_unsafe_dt=True)
@@ -165,10 +165,10 @@ def test_the_free_field_columns_shear_wave_speed_is_the_papers_scaled_to_its_hei
     Vs / 4H = 5.8 Hz. A Hertzian packing's Vs grows as the mean stress to the 1/6 (the
     contact stiffness ~ F^(1/3)), so the tiny case's 3 m column (6 cm model) should have
     210 (3 / 9)^(1/6) = 175 m/s. Measured from its fundamental frequency after a small base
-    pulse (studies.seismic.material.shear_wave: Vs_f0 = 4 H f0); the contact parameters
+    pulse (studies.seismic.calibrate.shear_wave: Vs_f0 = 4 H f0); the contact parameters
     are the case's defaults, not tuned to this. Within 25 % (the spectrum's resolution at
     this size is ~5 % of f0, the grain-scale column only 10 grains high)."""
-    from studies.seismic.material import shear_wave
+    from studies.seismic.calibrate import shear_wave
     case, prep = tiny
     r = shear_wave(case, prep.columns[1], case.retained_height)
     expected = 210.0 * (case.retained_height * case.scale_N / 9.0) ** (1 / 6)

@@ -34,7 +34,7 @@ import dem3d
 from dem3d import AccelerationTable, Simulation, settle, shaking
 from dem3d.measure import slice_averages
 
-from . import model as M
+from . import specimen as M
 from .case import SeismicCase
 
 
