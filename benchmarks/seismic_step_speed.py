@@ -39,7 +39,10 @@ import numpy as np
 from pathlib import Path
 from studies.seismic.case import SeismicCase
 from studies.seismic.run import prepare, coupled
-from studies.seismic import specimen as M
+try:
+    from studies.seismic import specimen as M
+except ImportError:                     # a checkout from before the study layout
+    from studies.seismic import model as M
 from dem3d.freefield import step_coupled, column_free_field
 steps, cache = int(sys.argv[1]), Path(sys.argv[2])
 case = SeismicCase()
