@@ -133,7 +133,10 @@ class StageReading(dict):
     ``container_vertical_N_m``, ``wall_vertical_N_m`` (upward reactions on the fill),
     ``fill_weight_N_m``, ``grains``, ``held``, ``crest_displacement_m``, ``settled``,
     ``time_s``, ``steps``; per phase (``_PhaseClock``) ``cpu_<phase>_s`` and
-    ``steps_<phase>`` for drop, place, settle, read."""
+    ``steps_<phase>`` for drop, place, settle, read; per block (the wall's order)
+    ``block_fill_force_N_m`` (the fill's force on it: [horizontal toward the outside,
+    vertical downward]) and ``block_outlines_m`` (its corners then), the field of
+    Oetomo et al.'s Fig. 20."""
 
 
 @dataclass
@@ -476,15 +479,18 @@ class BackfilledWall:
         dt = w.solver.dt
         n = max(int(round(seconds / dt)), 1)
         on_wall, moment, cont, form = np.zeros(2), 0.0, 0.0, 0.0
+        per_block = np.zeros((len(w.bodies), 2))
         for _ in range(n):
             w.advance(dt)
-            f, m = _fill_on_blocks(w.bodies)
+            f, m = _fill_on_blocks(w.bodies, per_block)
             on_wall += f
             moment += m
             cont += _static_on_fill(w.space.static_body)
             form += _fill_on_shape(self.formwork_shape)
         on_wall, moment, cont, form = on_wall / (n * dt), moment / (n * dt), cont / (n * dt), form / (n * dt)
         return StageReading(
+            block_fill_force_N_m=(-per_block / (n * dt)).tolist(),
+            block_outlines_m=[o.tolist() for o in w.world_outlines()],
             backfill_height_m=self.backfill_height_m, thrust_N_m=float(-on_wall[0]),
             thrust_vertical_N_m=float(-on_wall[1]),
             thrust_height_m=float(moment / on_wall[0]) if on_wall[0] != 0 else math.nan,
@@ -512,11 +518,13 @@ class _PhaseClock:
         return dict(self.out)
 
 
-def _fill_on_blocks(blocks) -> tuple[np.ndarray, float]:
+def _fill_on_blocks(blocks, per_block: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """Last step's impulses of the fill on the blocks (x, y) [N s/m], and the sum of
-    J_x y over the contact points (the moment that places the horizontal resultant)."""
+    J_x y over the contact points (the moment that places the horizontal resultant);
+    each block's own impulses are added to its row of ``per_block`` (n, 2) if given."""
     out = np.zeros(2)
     mom = [0.0]
+    row = [0]
 
     def visit(arb):
         a, b = arb.shapes
@@ -525,11 +533,15 @@ def _fill_on_blocks(blocks) -> tuple[np.ndarray, float]:
         j = arb.total_impulse            # on the first shape: the block's
         out[0] += j.x
         out[1] += j.y
+        if per_block is not None:
+            per_block[row[0], 0] += j.x
+            per_block[row[0], 1] += j.y
         pts = arb.contact_point_set.points
         for cp in pts:
             mom[0] += j.x / len(pts) * cp.point_a.y
-    for body in blocks:
+    for k, body in enumerate(blocks):
         if body.body_type == pymunk.Body.DYNAMIC:
+            row[0] = k
             body.each_arbiter(visit)
     return out, mom[0]
 

@@ -71,3 +71,36 @@ def plot_drystone_mechanism(outlines_ref, outlines, velocities, path, *, water_h
     notes_box(fig, list(notes))
     fig.subplots_adjust(bottom=0.15)
     return save_figure(fig, path, tight=False)
+
+
+def plot_block_forces(outlines, forces, path, *, title: str, notes: list[str] = ()) -> Path:
+    """Oetomo et al.'s Fig. 20: the fill's force on each block of the wall, (a) horizontal
+    (toward the outside positive) and (b) vertical (downward positive) [kN/m], each block
+    coloured by its own; blocks the fill does not touch in white."""
+    from matplotlib.collections import PolyCollection
+
+    f = np.asarray(forces, float).reshape(-1, 2) / 1e3
+    polys = [np.asarray(o, float) for o in outlines]
+    pts = np.vstack(polys)
+    fig, axes = plt.subplots(1, 2, figsize=(10.5, 5.4), sharey=True)
+    for ax, col, label in ((axes[0], 0, "(a) horizontal, outward [kN/m]"), (axes[1], 1, "(b) vertical, down [kN/m]")):
+        values = f[:, col]
+        touched = np.abs(f).sum(axis=1) > 0
+        top = float(np.abs(values).max()) or 1.0
+        ax.add_collection(PolyCollection([p for p, t in zip(polys, touched) if not t], facecolors="white",
+                                         edgecolors="0.6", linewidths=0.5))
+        pc = PolyCollection([p for p, t in zip(polys, touched) if t], array=values[touched], cmap="coolwarm",
+                            clim=(-top, top), edgecolors="k", linewidths=0.5)
+        ax.add_collection(pc)
+        fig.colorbar(pc, ax=ax, shrink=0.75, label=label)
+        ax.set_xlim(pts[:, 0].min() - 0.1, pts[:, 0].max() + 0.1)
+        ax.set_ylim(pts[:, 1].min() - 0.1, pts[:, 1].max() + 0.1)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x inward from the outer toe [m]")
+        ax.set_title(label.split(" [")[0] + f"; {int(touched.sum())} of {len(polys)} blocks carry a fill force",
+                     fontsize=9)
+    axes[0].set_ylabel("y [m]")
+    fig.suptitle(title, fontsize=10)
+    notes_box(fig, list(notes))
+    fig.subplots_adjust(bottom=0.18)
+    return save_figure(fig, path, tight=False)

@@ -114,7 +114,7 @@ def backfill_result(case: DrystoneCase, run: dict) -> dict:
     the paper's DEM, local values (paper's and ours), provenance."""
     from analytic.drystone import backfill_limit_equilibrium
     bw, m, w = run["bw"], run["mechanism"], case.wall_reference()
-    stages = run["stages"]
+    stages = [{k: v for k, v in r.items() if k not in PER_BLOCK} for r in run["stages"]]
     crit = stages[-1]["backfill_height_m"] if bw.failed else None
     delta, delta_note = _calibrated_global(case)
     le = backfill_limit_equilibrium(case.section(), case.phi_b_deg, case.unit_weight_kN_m3, GAMMA_S, PHI_FILL,
@@ -137,10 +137,28 @@ def backfill_result(case: DrystoneCase, run: dict) -> dict:
                              "ours": {"grain_friction_deg": case.backfill.grain_friction_deg,
                                       "interface_friction_deg": case.backfill.interface_friction_deg,
                                       "placement_friction_deg": case.backfill.placement_friction_deg}},
+            "block_forces": block_forces(run["stages"], bw.failed),
             "particles": {"blocks": bw.wall.block_count, "grains": len(bw.bodies), "held": len(bw.held)},
             "seed": case.backfill.seed, "dt_s": case.dt, "iterations": case.backfill.iterations,
             "speed": run["speed"], "wall_time_s": run["wall_time_s"], "cpu_time_s": run["cpu_time_s"],
             "assumptions": assumptions(case) + backfill_assumptions(case), "note": RIGID_NOTE}
+
+
+#: the readings' per-block fields, kept in the result for one stage only (``block_forces``)
+PER_BLOCK = ("block_fill_force_N_m", "block_outlines_m")
+
+
+def block_forces(stages: list[dict], failed: bool) -> dict | None:
+    """The fill's force on each block (Oetomo et al.'s Fig. 20) at the last stage the wall
+    stood: the stage before the failing one (the failing stage's reading is taken while
+    the wall moves), or the last stage of a wall that stood. ``fill_force_N_m`` per block
+    [horizontal toward the outside, vertical downward] [N/m], ``outlines_m`` its corners."""
+    standing = stages[:-1] if failed else stages
+    if not standing or PER_BLOCK[0] not in standing[-1]:
+        return None
+    r = standing[-1]
+    return {"backfill_height_m": r["backfill_height_m"], "fill_force_N_m": r["block_fill_force_N_m"],
+            "outlines_m": r["block_outlines_m"]}
 
 
 def backfill_assumptions(case: DrystoneCase) -> list[str]:
@@ -161,10 +179,11 @@ def backfill_assumptions(case: DrystoneCase) -> list[str]:
 
 
 def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None:
-    """stages.csv, thrust.png (DEM and Coulomb against H_b, with the thrust height), mechanism.png."""
+    """stages.csv, thrust.png (DEM and Coulomb against H_b, with the thrust height),
+    block_forces.png (Fig. 20), mechanism.png."""
     from viz.figures import plot_series
 
-    from .figures import plot_drystone_mechanism
+    from .figures import plot_block_forces, plot_drystone_mechanism
 
     st, co = result["stages"], result["coulomb"]["rows"]
     keys = ["backfill_height_m", "thrust_N_m", "thrust_vertical_N_m", "thrust_height_m", "formwork_thrust_N_m",
@@ -183,6 +202,11 @@ def write_outputs_b(folder, case: DrystoneCase, result: dict, run: dict) -> None
                     "Coulomb thrust height [m]": [c["thrust_height_m"] for c in co]},
                 folder.file("thrust.png"), xlabel="backfill height at the inner face H_b [m]", ylabel="kN/m ; m",
                 title=f"{case.wall}: fill thrust against backfill height")
+    if result.get("block_forces"):
+        bf = result["block_forces"]
+        plot_block_forces(bf["outlines_m"], bf["fill_force_N_m"], folder.file("block_forces.png"),
+                          title=f"{case.wall}: the fill's force on each block at H_b = {bf['backfill_height_m']:.2f} m "
+                                f"(the last stage the wall stood)", notes=result["assumptions"])
     m = run["mechanism"]
     bw = run["bw"]
     title = (f"{case.wall} at failure, H_b = {result['critical_height_m']:.2f} m: {m.mode} at {m.level_m:.2f} m"

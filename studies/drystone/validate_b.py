@@ -136,8 +136,8 @@ def motion_at_failure(case: DrystoneCase, recording: Path) -> dict | None:
 
 
 def _figures(folder: Path, fig_dir: Path, wall: str, seed: int) -> None:
-    """The run's thrust and mechanism figures, copied beside the report."""
-    for name in ("thrust", "mechanism"):
+    """The run's thrust, block-force (Fig. 20) and mechanism figures, copied beside the report."""
+    for name in ("thrust", "block_forces", "mechanism"):
         src = folder / f"{name}.png"
         if src.is_file():
             shutil.copyfile(src, fig_dir / f"{wall}_seed{seed}_{name}.png")
