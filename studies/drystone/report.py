@@ -301,7 +301,10 @@ def case_b_lines(b: dict) -> list[str]:
             "### Assumed (every run repeats its own list)", "", *[f"- {a}" for a in b["assumptions"]], "",
             "### Figures", "",
             *[f"- {w} seed {seed}: [thrust vs backfill height, with Coulomb](drystone/{w}_seed{seed}_thrust.png), "
-              f"[mechanism at failure](drystone/{w}_seed{seed}_mechanism.png)"
+              + (f"[the fill's force on each block at H_b = {e['block_forces_height_m']:.2f} m, the last stage "
+                 f"the wall stood (the paper's Fig. 20)](drystone/{w}_seed{seed}_block_forces.png), "
+                 if e.get("block_forces_height_m") is not None else "")
+              + f"[mechanism at failure](drystone/{w}_seed{seed}_mechanism.png)"
               for w, seeds in walls.items() for seed, e in seeds.items() if e != "not run"], "",
             *(["Rerun recordings (blocks, grains, force chains, block velocities at failure; not committed): "
                + ", ".join(f"`{r}`" for r in recordings), ""] if recordings else [])]

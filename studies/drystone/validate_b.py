@@ -97,7 +97,9 @@ def entry(result: dict, manifest: dict, folder: Path) -> dict:
             "seed": result["seed"], "dt_s": result["dt_s"], "iterations": result["iterations"],
             "git": manifest.get("git"), "versions": manifest.get("versions"),
             "load_average_1min": manifest.get("load_average_1min"), "run_folder": str(folder),
-            "recording": result.get("recording")}
+            "recording": result.get("recording"),
+            # the stage of the block-force field (Fig. 20), where the run has it
+            "block_forces_height_m": (result.get("block_forces") or {}).get("backfill_height_m")}
 
 
 def motion_at_failure(case: DrystoneCase, recording: Path) -> dict | None:
