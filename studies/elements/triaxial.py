@@ -23,11 +23,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import dem3d
-from analytic.errors import InvalidParameter
 from analytic.inputs import MAX_PRESSURE_KPA
 from analytic.schema import check_fields, param
 
 from ..granular import CLUMP_VOLUME_FACTOR, SpecimenRecipe, contact_law, frictional_law, time_step
+from ..granular.cloud import loose_cloud
 
 
 @dataclass
@@ -139,24 +139,21 @@ CLOUD_FRACTIONS = (0.22, 0.18, 0.15)
 
 
 def _loose_cube(rec: SpecimenRecipe, particles: int, rng) -> tuple[dem3d.Specimen, float]:
-    """The bodies placed at random (the only draws from ``rng``) in a cube at solid
+    """The bodies placed at random (``granular.cloud.loose_cloud``) in a cube at solid
     fraction 0.22, and the cube's side [m]; where random placement jams there (3,000
     spheres with seed 2 did) a looser cube, drawn on from the same generator."""
     n_bodies = int(round(particles / (1.0 + rec.clump_fraction)))
     a, b = rec.d_min, rec.d_max
     mean_d3 = (b**4 - a**4) / (4.0 * (b - a)) if b > a else a**3
     v_body = math.pi / 6.0 * mean_d3 * (1.0 + rec.clump_fraction * (CLUMP_VOLUME_FACTOR - 1.0))
-    for fraction in CLOUD_FRACTIONS:
-        side0 = (n_bodies * v_body / fraction) ** (1.0 / 3.0)
-        try:
-            spec = dem3d.random_specimen(rng, (1e-3,) * 3, (side0 - 1e-3,) * 3, n_bodies, a, b,
-                                         clump_fraction=rec.clump_fraction, clump_overlap=rec.clump_overlap,
-                                         density=rec.density)
-            return spec, side0
-        except InvalidParameter:
-            continue
-    raise InvalidParameter("particles", particles, "a count whose grains fit the generation cube",
-                           f"random placement jammed even at a solid fraction of {CLOUD_FRACTIONS[-1]}")
+
+    def side(fraction: float) -> float:
+        return (n_bodies * v_body / fraction) ** (1.0 / 3.0)
+
+    spec, fraction = loose_cloud(rng, (1e-3,) * 3, lambda f: (side(f) - 1e-3,) * 3, CLOUD_FRACTIONS, n_bodies, a, b,
+                                 density=rec.density, clump_fraction=rec.clump_fraction,
+                                 clump_overlap=rec.clump_overlap, what=("particles", particles))
+    return spec, side(fraction)
 
 
 def platen_walls(side0: float, servo: list[ServoVelocity]) -> list:

@@ -1,5 +1,6 @@
 """The loose cloud every rained specimen starts from (the wall backfills of ``specimen``,
-the heap, the seismic deposit and its free-field columns): bodies placed at random in a
+the triaxial cube of ``elements.triaxial``, the heap, the seismic deposit and its
+free-field columns): bodies placed at random in a
 box tall enough for a low solid fraction, since random sequential addition jams near a
 solid fraction of 0.25-0.38; a taller, looser box is tried when a narrow one jams."""
 

@@ -105,7 +105,7 @@ def hertz_stiffness(case: SeismicCase, stress: float) -> float:
 
 def deposit_cube(case: SeismicCase, particles: int, seed: int) -> tuple[np.ndarray, np.ndarray, float]:
     """(positions, radii, side): about ``particles`` grains of a cube of ``side`` [m] cut
-    from a deposit rained as the model's (``model.rain_deposit``, periodic along y),
+    from a deposit rained as the model's (``specimen.rain_deposit``, periodic along y),
     without the grains a platen on the cube's faces would cut (the deposit's porosity
     and fabric; the paper's deposit: porosity 0.40)."""
     side = (1.04 * particles * M.mean_grain_volume(case) / (1.0 - case.porosity)) ** (1.0 / 3.0)
