@@ -14,7 +14,7 @@ never tuned per case; reference section 3):
   and friction, then sheared at a constant axial strain rate: peak and end
   (critical-state estimate) phi = asin((s1 - s3) / (s1 + s3)); the paper: ~31 deg at
   35-140 kPa and porosity 0.40. The specimen is a cube cut from a deposit rained as the
-  model's own (``model.rain_deposit``: same grains, friction, N g), so it has the
+  model's own (``specimen.rain_deposit``: same grains, friction, N g), so it has the
   deposit's porosity and fabric; the grains the platens would cut are removed and the
   platens brought to the confining stress. (Compacting a random cloud between servo
   platens, the former way, jammed a dense shell along the five moving platens while the
