@@ -446,17 +446,18 @@ class WallSet:
         if not movers:
             return om_mid, v_mid, om_end, v_end
         t = t0
+        # D at each step's end is D at the next step's start: evaluated once
+        d_end = {k: np.asarray(m.displacement(t), float) for k, m in movers if m.displacement is not None}
         for s in range(n_steps):
             tm = t + 0.5 * dt
-            t_prev = t
             t = t + dt
             for k, m in movers:
                 om_mid[s, k] = m.angular_speed(tm)
                 if m.displacement is None:
                     v_mid[s, k] = m.velocity(tm)
                 else:        # the step's mean velocity: the pivot advances by D(t) - D(t - dt)
-                    v_mid[s, k] = (np.asarray(m.displacement(t), float)
-                                   - np.asarray(m.displacement(t_prev), float)) / dt
+                    d_start, d_end[k] = d_end[k], np.asarray(m.displacement(t), float)
+                    v_mid[s, k] = (d_end[k] - d_start) / dt
                 om_end[s, k] = m.angular_speed(t)
                 # a history wall shows the contacts its mean velocity over the step just
                 # taken, the same half-step velocity the spheres' leapfrog carries, so a
