@@ -204,8 +204,9 @@ VALIDATE = Command(
                     parse=_walls, default=None),
              Option("--backfill-seeds", "case B: comma list of backfill seeds, the realisations (1,2)", parse=_seeds,
                     default=(1, 2)),
-             Option("--finished-only", "case B: report the finished runs under --out, the others as not run "
-                    "(nothing is run)", switch=True),
+             Option("--finished-only", "case B: report the finished runs under --out; a wall and seed without one "
+                    "keeps its entry of the present report, else is reported as not run (nothing is run)",
+                    switch=True),
              Option("--band", "case A: dem: DEM runs over the band corners; le: limit equilibrium only (dem)",
                     choices=("dem", "le"), default="dem"),
              Option("--no-convergence", "case A: skip the dt / 2, 2 x iterations repeat", switch=True),

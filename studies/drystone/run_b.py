@@ -137,7 +137,7 @@ def backfill_result(case: DrystoneCase, run: dict) -> dict:
                              "ours": {"grain_friction_deg": case.backfill.grain_friction_deg,
                                       "interface_friction_deg": case.backfill.interface_friction_deg,
                                       "placement_friction_deg": case.backfill.placement_friction_deg}},
-            "block_forces": block_forces(run["stages"], bw.failed),
+            "block_forces": block_forces(run["stages"], bw.failed, bw.wall.course),
             "particles": {"blocks": bw.wall.block_count, "grains": len(bw.bodies), "held": len(bw.held)},
             "seed": case.backfill.seed, "dt_s": case.dt, "iterations": case.backfill.iterations,
             "speed": run["speed"], "wall_time_s": run["wall_time_s"], "cpu_time_s": run["cpu_time_s"],
@@ -148,17 +148,51 @@ def backfill_result(case: DrystoneCase, run: dict) -> dict:
 PER_BLOCK = ("block_fill_force_N_m", "block_outlines_m")
 
 
-def block_forces(stages: list[dict], failed: bool) -> dict | None:
+def block_forces(stages: list[dict], failed: bool, course=None) -> dict | None:
     """The fill's force on each block (Oetomo et al.'s Fig. 20) at the last stage the wall
     stood: the stage before the failing one (the failing stage's reading is taken while
     the wall moves), or the last stage of a wall that stood. ``fill_force_N_m`` per block
-    [horizontal toward the outside, vertical downward] [N/m], ``outlines_m`` its corners."""
+    [horizontal toward the outside, vertical downward] [N/m], ``outlines_m`` its corners,
+    ``course`` its course (0 = base) when given."""
     standing = stages[:-1] if failed else stages
     if not standing or PER_BLOCK[0] not in standing[-1]:
         return None
     r = standing[-1]
-    return {"backfill_height_m": r["backfill_height_m"], "fill_force_N_m": r["block_fill_force_N_m"],
-            "outlines_m": r["block_outlines_m"]}
+    out = {"backfill_height_m": r["backfill_height_m"], "fill_force_N_m": r["block_fill_force_N_m"],
+           "outlines_m": r["block_outlines_m"]}
+    if course is not None:
+        out["course"] = [int(k) for k in course]
+    return out
+
+
+#: an inner-face block "carries no force" below this fraction of the median inner-face block's
+NO_FORCE_FRACTION = 0.01
+
+
+def inner_face_forces(forces: dict, course) -> dict:
+    """The fill's horizontal force on the loaded face (Oetomo et al. Fig. 20a: "some blocks
+    do not withstand any forces from the backfill"): per course, the innermost block
+    (largest x of its outline) whose centre lies below the fill surface. Returns their
+    count, how many carry no force (below ``NO_FORCE_FRACTION`` of the median), and the
+    least, median and largest force [N/m] (``forces``: ``block_forces``'s dict;
+    ``course``: (n,) course of each block)."""
+    course = np.asarray(course)
+    outlines = [np.asarray(o, float) for o in forces["outlines_m"]]
+    fx = np.asarray(forces["fill_force_N_m"], float)[:, 0]
+    surface = forces["backfill_height_m"]
+    face = []
+    for k in np.unique(course):
+        members = np.flatnonzero(course == k)
+        inner = members[np.argmax([outlines[i][:, 0].max() for i in members])]
+        if outlines[inner][:, 1].mean() < surface:
+            face.append(inner)
+    f = fx[face]
+    median = float(np.median(f)) if len(f) else math.nan
+    return {"backfill_height_m": surface, "blocks": len(face),
+            "without_force": int(np.sum(f < NO_FORCE_FRACTION * median)) if len(f) else 0,
+            "no_force_fraction": NO_FORCE_FRACTION, "no_force_below_N_m": NO_FORCE_FRACTION * median,
+            "least_N_m": float(f.min()) if len(f) else math.nan, "median_N_m": median,
+            "largest_N_m": float(f.max()) if len(f) else math.nan}
 
 
 def backfill_assumptions(case: DrystoneCase) -> list[str]:

@@ -20,7 +20,27 @@ def scorecard_rows(rep: dict, ref: dict) -> list[Row]:
         rows += _case_a(wall, w, rep.get("walls", {}).get(wall), tol)
     for wall, w in ref["walls_b"].items():
         rows += _case_b(wall, w, rep.get("case_b", {}).get("walls", {}).get(wall, {}), tol)
+    rows.append(_blocks_without_force(rep.get("case_b", {}).get("walls", {}).get("C2S", {})))
     return rows
+
+
+def _blocks_without_force(seeds: dict) -> Row:
+    """Fig. 20 (C2S at its critical height): "some blocks do not withstand any forces from
+    the backfill", read on the inner-face blocks below the fill surface at the last stage
+    each seed's wall stood (``run_b.inner_face_forces``)."""
+    read = {s: e["block_forces_inner_face"] for s, e in seeds.items()
+            if isinstance(e, dict) and e.get("block_forces_inner_face")}
+    text = "; ".join(f"seed {s} at H_b {f['backfill_height_m']:.2f} m: {f['without_force']} of {f['blocks']} "
+                     f"without force, {f['least_N_m'] / 1e3:.2f}-{f['largest_N_m'] / 1e3:.2f} kN/m "
+                     f"(median {f['median_N_m'] / 1e3:.2f})" for s, f in read.items())
+    fraction = next((f["no_force_fraction"] for f in read.values()), None)
+    return Row("case B, C2S: some blocks of the loaded face carry no force from the backfill (arching)",
+               "section 5.2, Fig. 20", "some blocks without force", text,
+               ("no force: below " + (f"{100 * fraction:g} %" if fraction else "a small fraction")
+                + " of the median block's horizontal force; any seed"),
+               trend_verdict(any(f["without_force"] > 0 for f in read.values()) if read else None),
+               note="inner-face block of each course whose centre lies below the surface; read at the last "
+                    "stage the wall stood (the paper: at the critical height)")
 
 
 def _height_row(statement: str, where: str, ours: float | None, paper: float, tol: float,

@@ -59,7 +59,7 @@ def run_wall(case: DrystoneCase, root: Path, log=None, run_missing: bool = True)
     tag = f"{case.wall} seed {case.backfill.seed}"
     if folder is None and not run_missing:
         if log:
-            log(f"{tag}: no finished run under {root}: reported as not run")
+            log(f"{tag}: no finished run under {root}")
         return None
     interrupted = finished_run(case, root, holding=CHECKPOINT) if folder is None else None
     if interrupted is not None:
@@ -76,8 +76,11 @@ def run_wall(case: DrystoneCase, root: Path, log=None, run_missing: bool = True)
             folder)
 
 
-def entry(result: dict, manifest: dict, folder: Path) -> dict:
-    """One wall and seed in drystone.json's case B (the issue's keys first)."""
+def entry(result: dict, manifest: dict, folder: Path, course=None) -> dict:
+    """One wall and seed in drystone.json's case B (the issue's keys first); ``course``:
+    each block's course, for a run whose block forces predate the course in its result."""
+    from .run_b import inner_face_forces
+    forces = result.get("block_forces")
     err = result["error_percent"]
     ok = err is not None and math.isfinite(err)
     return {"critical_height_m": result["critical_height_m"], "mode": result["mode"],
@@ -99,7 +102,9 @@ def entry(result: dict, manifest: dict, folder: Path) -> dict:
             "load_average_1min": manifest.get("load_average_1min"), "run_folder": str(folder),
             "recording": result.get("recording"),
             # the stage of the block-force field (Fig. 20), where the run has it
-            "block_forces_height_m": (result.get("block_forces") or {}).get("backfill_height_m")}
+            "block_forces_height_m": (forces or {}).get("backfill_height_m"),
+            "block_forces_inner_face": (inner_face_forces(forces, forces.get("course", course))
+                                        if forces and (course is not None or "course" in forces) else None)}
 
 
 def motion_at_failure(case: DrystoneCase, recording: Path) -> dict | None:
@@ -161,23 +166,38 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
                     seeds: tuple[int, ...] = SEEDS, run_missing: bool = True, log=None) -> dict:
     """Every wall in ``walls`` on every seed; writes case B into drystone.json (case A
     kept as it is) and drystone.md, and the figures into drystone/. ``run_missing``
-    False: only the finished runs, the others written as "not run"."""
+    False: only the finished runs; a wall and seed without one keeps its entry of the
+    present drystone.json (made where its run folder was), else it is written as "not run"."""
+    from dem2d.blocks import BlockWall
+
+    from .case import assumptions, masonry
     from .report import write_report
+    from .run_b import backfill_assumptions
     t0, c0 = time.perf_counter(), time.process_time()
     git = git_revision()
     fig_dir = out_dir / "drystone"
     fig_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / "drystone.json"
+    rep = json.loads(path.read_text()) if path.is_file() else {"study": "drystone"}
+    kept = rep.get("case_b", {}).get("walls", {})
     rows: dict[str, dict[str, dict]] = {}
-    local_values, assumptions_by_wall = None, {}
+    local_values, assumptions_by_wall = rep.get("case_b", {}).get("local_values"), {}
     for w in walls:
         for seed in seeds:
             c = replace(case, wall=w, backfill=replace(case.backfill, seed=seed))
             found = run_wall(c, root, log, run_missing)
             if found is None:
-                rows.setdefault(w, {})[str(seed)] = "not run"
+                old = kept.get(w, {}).get(str(seed))
+                rows.setdefault(w, {})[str(seed)] = old if isinstance(old, dict) else "not run"
+                if isinstance(old, dict):
+                    assumptions_by_wall.setdefault(w, assumptions(c) + backfill_assumptions(c))
+                if log:
+                    log(f"  kept from {path} (run at git {old.get('git')})" if isinstance(old, dict)
+                        else "  reported as not run")
                 continue
             result, manifest, folder = found
-            rows.setdefault(w, {})[str(seed)] = entry(result, manifest, folder)
+            course = BlockWall.build(c.section(), masonry(c)).course
+            rows.setdefault(w, {})[str(seed)] = entry(result, manifest, folder, course)
             rows[w][str(seed)]["motion_at_failure"] = motion_at_failure(c, folder / "recording.rrd")
             local_values = result["local_values"]
             assumptions_by_wall.setdefault(w, result["assumptions"])
@@ -186,8 +206,6 @@ def validate_case_b(case: DrystoneCase, *, out_dir: Path, root: Path, walls: lis
                 e = rows[w][str(seed)]
                 log(f"  {w} seed {seed}: DEM {e['critical_height_m']} m {e['mode']} (measured "
                     f"{e['measured_height_m']} m {e['measured_mode']}), {e['cpu_time_s']:.0f} s CPU")
-    path = out_dir / "drystone.json"
-    rep = json.loads(path.read_text()) if path.is_file() else {"study": "drystone"}
     b = case.backfill
     rep["case_b"] = {
         "walls": rows, "seeds": list(seeds),

@@ -160,11 +160,38 @@ def test_validate_case_b_writes_both_seeds_keeps_case_a_and_reuses_runs(tmp_path
     again = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 2))
     assert sorted((tmp_path / "runs" / "drystone").iterdir()) == folders
     assert again["case_b"]["walls"] == rep["case_b"]["walls"]
+    # a seed whose run folder is not on this machine keeps the entry the report has
+    before = json.loads((docs / "drystone.json").read_text())["case_b"]
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    for f in folders:
+        if json.loads((f / "result.json").read_text())["seed"] == 2:
+            shutil.move(str(f), elsewhere / f.name)
+    kept = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 2),
+                           run_missing=False)
+    assert kept["case_b"]["walls"]["C2S"]["2"] == before["walls"]["C2S"]["2"]
+    assert kept["case_b"]["assumptions"] == before["assumptions"]
     partial = validate_case_b(case, out_dir=docs, root=tmp_path / "runs", walls=["C2S"], seeds=(1, 3),
                               run_missing=False)
-    assert sorted((tmp_path / "runs" / "drystone").iterdir()) == folders          # seed 3 not run
+    assert sorted((tmp_path / "runs" / "drystone").iterdir()) == [f for f in folders if f.exists()]  # no seed 3
     assert partial["case_b"]["walls"]["C2S"]["3"] == "not run"
     assert "| C2S | 3 | | not run |" in (docs / "drystone.md").read_text()
+
+
+def test_inner_face_forces_reads_the_innermost_block_of_each_course_below_the_surface():
+    """Oetomo et al. Fig. 20 is read on the loaded (inner) face: per course the block
+    reaching furthest inward, only where its centre lies below the fill surface. Two
+    courses of two blocks (x inward) under a fill 0.2 m high: the inner blocks are 1
+    (course 0) and 3 (course 1, centre 0.15 m); a third course (centre 0.25 m) is above
+    the surface. Block 3 carries 2 N/m, 0.4 % of the median (below 1 % is "no force")."""
+    from studies.drystone.run_b import inner_face_forces
+    box = lambda x0, y0: [[x0, y0], [x0 + 0.3, y0], [x0 + 0.3, y0 + 0.1], [x0, y0 + 0.1]]
+    forces = {"backfill_height_m": 0.2,
+              "outlines_m": [box(0.0, 0.0), box(0.3, 0.0), box(0.0, 0.1), box(0.3, 0.1), box(0.3, 0.2)],
+              "fill_force_N_m": [[0.0, 0.0], [1000.0, 10.0], [0.0, 0.0], [2.0, 0.0], [500.0, 0.0]]}
+    f = inner_face_forces(forces, [0, 0, 1, 1, 2])
+    assert f["blocks"] == 2 and f["median_N_m"] == pytest.approx(501.0)
+    assert f["without_force"] == 1 and f["least_N_m"] == 2.0 and f["largest_N_m"] == 1000.0
 
 
 def test_report_tags_each_walls_own_assumptions_with_the_wall():
