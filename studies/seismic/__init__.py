@@ -109,6 +109,7 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     with progress(opts.quiet) as bar:
         task = bar.add_task("shaking", total=1, status="")
         rep = validate_seismic(case, frequencies=tuple(opts.freqs), out_dir=Path(opts.docs), root=Path(opts.out),
+                               rolling_resistances=tuple(opts.rolling_resistances or ()),
                                progress=lambda done, total: bar.update(task, completed=done, total=total),
                                log=lambda msg: print(msg, file=sys.stderr, flush=True))
     return rep, f"report: {Path(opts.docs) / 'seismic.md'}"
@@ -120,12 +121,16 @@ VALIDATE = Command(
                 "docs/validation/seismic.{md,json}: per frequency the wall's residual displacement, rotation "
                 "and pivot, moments over static, passive K at 1.5 m below the dredge line, settlement; each "
                 "of the paper's trends held / not held / not run. About 20 min of one core per frequency at "
-                "the coarse resolution. Example: wallsim validate seismic --freqs 5,4",
+                "the coarse resolution. The paper's other frequencies already run (same case, under --out) "
+                "stay in the report. Example: wallsim validate seismic --freqs 5,4",
     default_case=_default_case, run=_validate, text=lambda rep: None, busy_note=True,
     options=(Option("--freqs", "frequencies, prototype [Hz] (1,3,4,5,6)", default=[1.0, 3.0, 4.0, 5.0, 6.0],
                     parse=number_list("freqs", lo=0.0, hi=20.0, unit="Hz")),
              Option("--resolution", "coarse, medium or paper (coarse)", key="resolution",
                     choices=("coarse", "medium", "paper")),
+             Option("--rolling-resistances", "the frequencies again at each of these rolling resistances mu_r "
+                    "(the assumed contact value), beside the case's own in the report (none)", default=(),
+                    parse=number_list("rolling_resistances", lo=0.0, hi=1.0), metavar="MU_R,..."),
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs")), VTK))
 

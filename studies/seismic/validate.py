@@ -49,13 +49,31 @@ STATIC_FAILURE = float(_TARGETS["static_failure_top_over_wall_length"])
 
 
 def validate_seismic(case: SeismicCase, *, frequencies=PAPER_FREQUENCIES, out_dir: Path = Path("docs/validation"),
-                     root: Path = Path("runs"), progress=None, log=print) -> dict:
+                     root: Path = Path("runs"), rolling_resistances=(), progress=None, log=print) -> dict:
+    """Run ``frequencies`` of ``case`` (each reused when finished, resumed when
+    interrupted) and write the report. The paper's other frequencies go in too when their
+    run folders under ``root`` hold finished runs of the same case (nothing else is run),
+    so validating one frequency does not drop the others. ``rolling_resistances``: the
+    same frequencies again at each of these mu_r (the assumed value moved across its
+    plausible range), set beside the case's own in the report."""
     folders = {}
     for f in frequencies:
         log(f"seismic: {f:g} Hz")
         folders[float(f)] = frequency_run(dataclasses.replace(case, frequency=float(f)), root=root,
                                           record=f == 5.0, progress=progress, log=log)
-    return write_report(case, folders, out_dir, material=out_dir / "seismic_material.json")
+    for f in PAPER_FREQUENCIES:
+        folder = Path(root) / "seismic" / run_name(dataclasses.replace(case, frequency=float(f)))
+        if float(f) not in folders and finished_result(folder) is not None:
+            log(reusing_line(folder))
+            folders[float(f)] = folder
+    varied = {}
+    for mu_r in rolling_resistances:
+        for f in frequencies:
+            log(f"seismic: {f:g} Hz at rolling resistance {mu_r:g}")
+            c = dataclasses.replace(case, frequency=float(f), rolling_resistance=float(mu_r))
+            varied.setdefault(float(mu_r), {})[float(f)] = frequency_run(c, root=root, progress=progress, log=log)
+    return write_report(case, folders, out_dir, material=out_dir / "seismic_material.json",
+                        rolling_resistance_runs=varied)
 
 
 def run_name(case: SeismicCase) -> str:
@@ -258,14 +276,17 @@ def report_figures(folders: dict, out_dir: Path) -> list[dict]:
 
 
 def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: Path | None = None,
-                 note: str = "") -> dict:
+                 note: str = "", rolling_resistance_runs: dict | None = None) -> dict:
     """seismic.json and seismic.md from run folders by frequency (prototype Hz -> folder);
     frequencies of the paper without a folder are written as not run. At the default
     resolution the report is rewritten (an earlier ``other_resolutions`` block kept); at
     another, the runs go into ``other_resolutions[<name>]`` of the existing report and are
     set beside the default resolution's frequency by frequency (``resolution_changes``).
     ``note`` (else ``seismic_discussion.md`` beside the report, written by hand) goes in
-    after the material checks."""
+    after the material checks. ``rolling_resistance_runs`` (mu_r -> frequency -> folder,
+    default resolution only) replace those values' entries of the report's
+    ``rolling_resistance`` block; the others are kept while their runs rested as this
+    report's did (``rolling_resistance_block``)."""
     freqs = {f: (frequency_record(folders[f], case) if f in folders else None) for f in PAPER_FREQUENCIES}
     block = {"resolution": case.resolution, "grain_scale": case.scale,
              "frequencies": {f"{f:g}": ({k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
@@ -285,6 +306,10 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
                 rep["superseded"] = superseded
         if folders:
             rep["figures"] = report_figures(folders, out_dir)
+        kept = (old or {}).get("rolling_resistance", {}).get("runs", {})
+        mu_r = rolling_resistance_block(case, kept, rolling_resistance_runs or {})
+        if mu_r:
+            rep["rolling_resistance"] = {"report_value": case.rolling_resistance, "runs": mu_r}
     else:
         rep = old
         rep.setdefault("other_resolutions", {})[case.resolution] = block
@@ -299,6 +324,21 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
         note = discussion.read_text().strip()          # the hand-written part survives a rerun
     (out_dir / "seismic.md").write_text(report_markdown(rep, note))
     return rep
+
+
+def rolling_resistance_block(case: SeismicCase, kept: dict, runs: dict) -> dict:
+    """The runs of the case at other rolling resistances: {mu_r: {frequency: record}}
+    (``frequency_record``), the new ``runs`` (mu_r -> frequency -> folder) over the
+    ``kept`` ones; kept runs that did not rest as ``case`` does are dropped (their static
+    readings do not compare)."""
+    out = {k: v for k, v in kept.items() if _rest_s({"frequencies": v}) == case.rest_s}
+    for mu_r, by_freq in runs.items():
+        c = dataclasses.replace(case, rolling_resistance=mu_r)
+        recs = {f"{f:g}": frequency_record(folder, dataclasses.replace(c, frequency=f)) for f, folder in by_freq.items()}
+        out[f"{mu_r:g}"] = {**out.get(f"{mu_r:g}", {}),
+                            **{f: {k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
+                               for f, r in recs.items()}}
+    return dict(sorted(out.items(), key=lambda kv: float(kv[0])))
 
 
 def _rest_s(block: dict) -> float:
@@ -398,7 +438,7 @@ def material_lines(mat: dict) -> list[str]:
 
 def _started_at(folders: dict) -> str:
     revs = []
-    for folder in folders.values():
+    for _, folder in sorted(folders.items()):
         man = Path(folder) / "manifest.json"
         revs.append(json.loads(man.read_text()).get("git", "?") if man.is_file() else git_revision())
     return ", ".join(dict.fromkeys(revs)) or git_revision()
@@ -452,6 +492,7 @@ def report_markdown(rep: dict, note: str = "") -> str:
     for name, t in rep["trends_across_frequencies"].items():
         lines.append(f"| {name} | all | {_held(t)} | {t['numbers']} |")
     lines += resolution_lines(rep)
+    lines += rolling_resistance_lines(rep)
     for name, why in rep.get("superseded", {}).items():
         lines += ["", f"The {name} resolution (git {why['git']}, {', '.join(why['frequencies'])} Hz) is left out: "
                       f"{why['why']}."]
@@ -485,6 +526,36 @@ def figure_lines(figures: list[dict]) -> list[str]:
     lines = ["", "## Figures", ""]
     for fig in figures:
         lines += [f"**{fig['paper']}** ({fig['file']}): {fig['caption']}", "", f"![{fig['paper']}]({fig['file']})", ""]
+    return lines
+
+
+def rolling_resistance_lines(rep: dict) -> list[str]:
+    """How the results move with the assumed rolling resistance: per frequency run at
+    other mu_r, each KEYS value and the static state beside the report's own run."""
+    block = rep.get("rolling_resistance")
+    if not block:
+        return []
+    own = f"{block['report_value']:g}"
+    lines = ["", f"## How the results move with the rolling resistance (assumed; this report: mu_r {own})", "",
+             "mu_r is the one contact value fitted to the paper (the deposit's triaxial phi ~31 deg at 0.25: 29.9 "
+             "and 32.3 deg at 0.2 and 0.3); each run below is the report's case with only mu_r changed, with the "
+             "same rest before shaking and its own static state."]
+    freqs = sorted({f for runs in block["runs"].values() for f in runs}, key=float)
+    for f in freqs:
+        cols = {mu: runs[f] for mu, runs in block["runs"].items() if f in runs}
+        if rep["frequencies"].get(f, "not run") != "not run":
+            cols[own] = rep["frequencies"][f]
+        cols = dict(sorted(cols.items(), key=lambda kv: float(kv[0])))
+        lines += ["", f"{f} Hz:", "", "| quantity | " + " | ".join(f"mu_r {mu}" for mu in cols) + " |",
+                  "|---|" + "---|" * len(cols)]
+        for k in [k for k in KEYS if k != "wall_time_s"]:
+            lines.append(f"| {k} | " + " | ".join(f"{r[k]:.4g}" for r in cols.values()) + " |")
+        for k in COMPARED_EXTRA:
+            lines.append(f"| {k} | " + " | ".join(f"{r['extra'][k]:.4g}" for r in cols.values()) + " |")
+        lines.append("| CPU [s] | " + " | ".join(_seconds(r["extra"].get("cpu_time_s")) for r in cols.values()) + " |")
+        lines.append("| single-frequency trends held | " + " | ".join(
+            f"{sum(t['held'] is True for t in r['trends'].values())} of {len(r['trends'])}" for r in cols.values())
+            + " |")
     return lines
 
 

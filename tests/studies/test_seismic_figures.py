@@ -151,3 +151,30 @@ def test_the_report_commits_its_figures_and_says_what_its_json_says(tiny_run, tm
     ratio = s["thrust_front_kN_per_m"][-1] / s["thrust_front_kN_per_m"][0]
     row = next(r for r in rep["scorecard"]["rows"] if r["statement"].startswith("residual passive"))
     assert row["ours"] == f"3 Hz x{ratio:.2f}, 5 Hz x{ratio:.2f}"
+
+
+def test_validating_one_frequency_keeps_the_others_and_sets_mu_r_beside_the_case(tiny_run, tmp_path):
+    """``validate_seismic`` for no frequency at all writes the report from the finished
+    runs it finds under the runs root (a 3 Hz run of the same case: nothing dropped,
+    nothing run); runs at another rolling resistance go beside the case's own, and the
+    Markdown quotes the JSON's numbers (here the one run twice over, so both columns
+    read the residual top displacement of result.json)."""
+    import dataclasses
+    import shutil
+
+    from studies.seismic.validate import run_name, validate_seismic, write_report
+    case, result, folder = tiny_run
+    root = tmp_path / "runs"
+    three = root / "seismic" / run_name(dataclasses.replace(case, frequency=3.0))
+    shutil.copytree(folder, three)
+    rep = validate_seismic(case, frequencies=(), out_dir=tmp_path, root=root, log=lambda msg: None)
+    assert rep["frequencies"]["3"] != "not run" and rep["frequencies"]["5"] == "not run"
+    rep = write_report(case, {5.0: folder}, tmp_path, rolling_resistance_runs={0.3: {5.0: folder}})
+    top = result["prototype"]["residual"]["top_displacement_m"]
+    assert rep["rolling_resistance"]["runs"]["0.3"]["5"]["top_displacement_m"] == top
+    md = (tmp_path / "seismic.md").read_text()
+    own = f"mu_r {case.rolling_resistance:g}"
+    assert f"| quantity | {own} | mu_r 0.3 |" in md
+    assert f"| top_displacement_m | {top:.4g} | {top:.4g} |" in md
+    again = write_report(case, {5.0: folder}, tmp_path)          # kept: the same rest before shaking
+    assert again["rolling_resistance"] == json.loads(json.dumps(rep["rolling_resistance"]))
