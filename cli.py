@@ -485,6 +485,9 @@ def _check_run_options(opts) -> None:
     if isinstance(getattr(opts, "rrd", None), str) and getattr(opts, "no_rrd", False):
         raise InvalidParameter("--rrd", opts.rrd, "a recording path without --no-rrd", "the two contradict")
     writable_root("out", opts.out)
+    if getattr(opts, "resume", None):        # before the busy-machine note: a refusal is one line
+        from studies.runner import refuse_new_recording
+        refuse_new_recording(opts.resume, bool(getattr(opts, "vtk", False)))
 
 
 def _cmd_seeds(cmd, args) -> int:

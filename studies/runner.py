@@ -156,6 +156,15 @@ def run_root_and_options(opts, kept: dict) -> tuple[Path, dict]:
     return Path(opts.resume).resolve().parents[1], kept | saved_options(opts.resume)
 
 
+def refuse_new_recording(resume: str | Path, vtk: bool) -> None:
+    """A resumed run records as it started: ``--vtk`` on a run started without it is
+    refused (it would silently write no VTK)."""
+    if vtk and not saved_options(resume).get("vtk"):
+        from analytic.errors import InvalidParameter
+        raise InvalidParameter("--vtk", f"on the interrupted run {resume}", "the settings that run started with",
+                               "it started without --vtk; a resumed run records as it started")
+
+
 def saved_options(run_dir: str | Path) -> dict:
     """The run options an interrupted run started with ({} for runs before they were kept)."""
     p = Path(run_dir) / "run_options.json"
@@ -171,10 +180,7 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
     seed = seed if seed is not None else getattr(case, "seed", None)
     env = _envelope.get()
     if resume is not None:
-        if (_options.get() or {}).get("vtk") and not saved_options(resume).get("vtk"):
-            from analytic.errors import InvalidParameter
-            raise InvalidParameter("--vtk", f"on the interrupted run {resume}", "the settings that run started with",
-                                   "it started without --vtk; a resumed run records as it started")
+        refuse_new_recording(resume, bool((_options.get() or {}).get("vtk")))
         folder = RunFolder.existing(resume, seed=seed)
     else:
         created = name is None or not (Path(root) / study / name).is_dir()
