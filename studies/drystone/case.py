@@ -91,6 +91,10 @@ class BackfillSettings:
         meaning="held grains are at least this far from the inner face, outside the failure wedge [A]")
     iterations: int = param(40, lo=1, hi=500,
                             meaning="contact-solver sweeps per step of case B (40: the gravel's calibration solver)")
+    # four fifths of a wall's CPU settle each new layer, 2,000-3,000 steps of 5e-4 s a stage
+    # (a third of the stages reach this cap); 100 s a stage would be days at full size
+    max_stage_s: float = param(1.5, unit="s", lo=0, hi=100, lo_open=True,
+                               meaning="settling time allowed a stage, for each of its two settlings (1.5)")
     seed: int = seed_param(1, meaning="random seed of the backfill: grain sizes and orientations")
 
     def __post_init__(self):
@@ -115,7 +119,7 @@ class BackfillSettings:
         from .backfill import FillPlan
         return FillPlan(layer_m=self.layer_m, slope_deg=self.slope_deg, container_m=self.container_m,
                         formwork_m=self.formwork_m, formwork=self.formwork, hold_depth_m=self.hold_depth_m,
-                        hold_distance_m=self.hold_distance_m)
+                        hold_distance_m=self.hold_distance_m, max_stage_s=self.max_stage_s)
 
 
 @dataclass(frozen=True)
