@@ -81,7 +81,10 @@ def _compare_text(res: dict):
 
 
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, None]:
-    from .compare import validate_khosravi
+    from .compare import REFERENCE, validate_khosravi
+    if opts.report_only:
+        from .report import rewrite
+        return rewrite(Path(opts.docs), REFERENCE), None
     return validate_khosravi(out_dir=opts.docs, root=opts.out, quiet=opts.quiet, case=case, rrd=opts.rrd), None
 
 
@@ -122,7 +125,9 @@ VALIDATE = Command(
     footprint=_footprint,
     options=(Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                     parse=output_folder("docs")),
-             Option("--rrd", "also keep recording.rrd in the run folder", switch=True), VTK))
+             Option("--rrd", "also keep recording.rrd in the run folder", switch=True),
+             Option("--report-only", "write khosravi.{json,md} in --docs again from the report there: the scorecard "
+                    "and text of today's code, nothing run", switch=True), VTK))
 
 STUDY = Study(name="khosravi", title="Khosravi et al., PFC2D-style translating wall with 40 pressure cells",
               commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

@@ -176,6 +176,16 @@ def scorecard(report: dict, ref: dict) -> dict:
     return scorecard_json(scorecard_rows(report, ref, card))
 
 
+def rewrite(out_dir: Path, reference: Path) -> dict:
+    """khosravi.json and khosravi.md written again from the report ``out_dir`` holds: the
+    scorecard and the text of today's code on the same runs (nothing is run)."""
+    path = out_dir / "khosravi.json"
+    if not path.is_file():
+        from analytic.errors import InvalidParameter
+        raise InvalidParameter("--docs", str(out_dir), "a folder holding khosravi.json", "there is no report to rewrite")
+    return _write(json.loads(path.read_text()), out_dir, json.loads(Path(reference).read_text()))
+
+
 def add_other_height(out_dir: Path, other: Path, reference: Path) -> dict:
     """Put the result of a validation at another wall height (``other``: its
     khosravi.json, written to a scratch --docs, or the run folder's result.json) into

@@ -95,10 +95,57 @@ def _active_rows(res: dict, ref: dict, test: dict | None) -> list[Row]:
             "" if moment is None else f"Rankine / DEM {moment:.2f}", "below 1",
             trend_verdict(None if moment is None else moment < 1.0),
             note="moments about the wall base from the active readings (trapezoid rule) and Ka gamma H^3 / 6"),
-        Row("Paik-Salgado and Khosravi fit the lower part, overestimate the upper; Handy fits poorly",
-            "section 4, Fig. 13", "profile shapes", "", "", "not reproduced",
-            note="the report keeps the theories' thrusts, not their profiles"),
-    ]
+    ] + _profile_rows(res, ref)
+
+
+#: Fig. 13(b): (theories, the part each fits or None, the part each overestimates or None;
+#: None for both: a poor agreement in both parts)
+PROFILE_STATEMENTS = (
+    (("rankine",), "upper", "lower", "Rankine agrees in the upper part, overestimates the lower"),
+    (("paik-salgado", "khosravi"), "lower", "upper",
+     "Paik-Salgado and Khosravi agree in the lower part, overestimate the upper"),
+    (("handy",), None, None, "Handy agrees poorly in both parts"),
+)
+
+
+def profile_parts(res: dict) -> dict:
+    """Per active theory, theory / DEM at each active reading (the theories of the
+    report, ``compare.theories``, at its phi, unit weight and H), summed up per part of
+    the wall: {theory: {"upper"|"lower": (mean ratio, rms of ratio - 1)}}."""
+    from .compare import theories
+    r = res["readings"]
+    z, dem = np.array(r["depth_over_H"]), np.array(r["active_over_gammaH"])
+    H, gamma = res["H_m"], res["gamma_N_per_m3"]
+    out = {}
+    for name, p in theories(res["dem"]["phi_biaxial"], gamma, H).items():
+        if name == "jaky":
+            continue
+        ratio = np.interp(z * H, p.z, p.sigma_h) / (gamma * H) / dem
+        out[name] = {part: (float(np.mean(ratio[m])), float(np.sqrt(np.mean((ratio[m] - 1.0) ** 2))))
+                     for part, m in (("upper", z < 0.5), ("lower", z > 0.5))}
+    return out
+
+
+def _profile_rows(res: dict, ref: dict) -> list[Row]:
+    tol = ref["targets"]["profile_agreement_rms_rel_tol"]
+    parts = profile_parts(res)
+    rows = []
+    for names, fits, over, statement in PROFILE_STATEMENTS:
+        held, text = [], []
+        for n in names:
+            up, lo = parts[n]["upper"], parts[n]["lower"]
+            text.append(f"{n}: upper mean x{up[0]:.2f} rms {100 * up[1]:.0f} %, lower mean x{lo[0]:.2f} "
+                        f"rms {100 * lo[1]:.0f} %")
+            if fits is None:
+                held.append(up[1] > tol and lo[1] > tol)
+            else:
+                held.append(parts[n][fits][1] <= tol and parts[n][over][0] > 1.0 + tol)
+        paper = "poor agreement in both parts" if fits is None else f"agrees in the {fits} part, overestimates the {over}"
+        rows.append(Row(statement, "section 4, Fig. 13(b)", paper,
+                        "; ".join(text), f"agrees: rms of theory / DEM - 1 within {100 * tol:g} %; overestimates: "
+                        f"mean above {1 + tol:g}", trend_verdict(all(held)),
+                        note="the active readings at Dis/H 0.003; upper part z/H < 0.5, lower z/H > 0.5"))
+    return rows
 
 
 def _moment_ratio(res: dict) -> float | None:

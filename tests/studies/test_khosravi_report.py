@@ -39,3 +39,21 @@ def test_ps0_against_the_straight_line_through_the_readings():
     z = np.array([0.93, 0.8, 0.67, 0.53, 0.4, 0.27, 0.13])
     assert _over_linear_trend(0.5 * 0.65 * 0.98, z, 0.65 * z, 0.98) == pytest.approx(0.5)
     assert _over_linear_trend(0.3, z[:1], z[:1], 0.98) is None
+
+
+def test_profile_parts_read_rankine_exactly_on_readings_that_are_rankine():
+    """Fig. 13(b)'s statements are scored on theory / DEM at each active reading. DEM
+    readings on Rankine's line, sigma_h / (gamma H) = Ka z / H with Ka = tan^2(45 - phi/2)
+    (phi 20 deg: Ka 0.4903), give Rankine a mean ratio of 1 and no scatter in both parts;
+    Handy's arching profile is not that line (its ratio departs from 1)."""
+    from studies.khosravi.scorecard import profile_parts
+    z = np.array([0.93, 0.8, 0.67, 0.53, 0.4, 0.27, 0.13])
+    ka = np.tan(np.radians(45.0 - 10.0)) ** 2
+    assert ka == pytest.approx(0.4903, abs=1e-4)
+    res = {"H_m": 0.3, "gamma_N_per_m3": 17000.0, "dem": {"phi_biaxial": 20.0},
+           "readings": {"depth_over_H": z.tolist(), "active_over_gammaH": (ka * z).tolist()}}
+    parts = profile_parts(res)
+    for part in ("upper", "lower"):
+        mean, rms = parts["rankine"][part]
+        assert mean == pytest.approx(1.0, abs=1e-9) and rms == pytest.approx(0.0, abs=1e-9)
+    assert parts["handy"]["upper"][1] > 0.01
