@@ -232,6 +232,35 @@ def plot_displacement_field(start, end, path, *, axes=(0, 2), cell: float = 0.2,
     return save_figure(fig, path)
 
 
+def plot_cell_map(centres, values, path, *, cell: float, label: str, lines=(), title: str = "") -> Path:
+    """A value per square cell (``centres`` (k,2) [m], ``values`` (k,)) drawn as squares
+    of side ``cell`` [m], coloured by value (colour bar ``label``); ``lines``: straight
+    lines to draw over the map, each ((x, y) a point [m], angle from the x axis [deg],
+    legend label)."""
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Rectangle
+    c, v = np.asarray(centres, float), np.asarray(values, float)
+    fig, ax = plt.subplots(figsize=(5, 8))
+    squares = PatchCollection([Rectangle((x - cell / 2, y - cell / 2), cell, cell) for x, y in c], cmap="magma")
+    squares.set_array(v)
+    ax.add_collection(squares)
+    fig.colorbar(squares, ax=ax, label=label)
+    lo, hi = c.min(axis=0) - cell, c.max(axis=0) + cell
+    for (x0, y0), angle, text in lines:
+        t = np.radians(angle)
+        s = np.linspace(-2.0, 2.0, 2) * float(np.hypot(*(hi - lo)))
+        ax.plot(x0 + s * np.cos(t), y0 + s * np.sin(t), "c--", lw=1.5, label=text)
+    if lines:
+        ax.legend(loc="upper right", fontsize=8)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(title)
+    return save_figure(fig, path)
+
+
 def plot_wall_design(case, result, path) -> Path:
     """A wall design check to scale (analytic.design): the wall and the fill moving with
     it, the horizontal earth-pressure diagram on the back, every characteristic force as

@@ -153,7 +153,10 @@ def _run_tests(plan: CalibrationPlan, tests: list[dict], bar, save_card, folder=
     the target phi)."""
     def one(case, label: str, part: str) -> None:
         with test_recording(folder, study="biaxial", label=part) as rec:
-            out, _, _ = run_one(case, bar, label, rec.log_frame if rec is not None else None)
+            out, test, _ = run_one(case, bar, label, rec.log_frame if rec is not None else None)
+        if folder is not None:
+            from .figures import plot_shear_band
+            plot_shear_band(test, case, out["band_angle_deg"], folder.file(f"band_{part}.png"))
         tests.append(out)
 
     for mu in plan.frictions:

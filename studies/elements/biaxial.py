@@ -339,6 +339,11 @@ class BiaxialTest:
         probe.stop()
 
     # ------------------------------------------------------------------ results
+    @property
+    def position_marks(self) -> list[tuple[float, np.ndarray]]:
+        """(axial strain, grain positions (n,2) [m]) at every tenth of the shear strain."""
+        return list(self._pos_marks)
+
     def result(self) -> BiaxialResult:
         """Summarise the shear samples (``BiaxialResult``)."""
         if not self.samples:
@@ -382,16 +387,27 @@ def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialC
         psi = math.degrees(math.asin(float(np.clip(-dv, -1, 1))))
     else:
         psi = float("nan")
-    band = float("nan")
-    if len(marks) >= 5:
-        # the post-peak part of the test: from 40 % of the final strain to the end
-        (_, xa), (_, xb) = marks[len(marks) * 2 // 5], marks[-1]
-        band = shear_band_angle(xa, xb, cell=3 * case.grading.d50)
+    window = band_window(marks)
+    band = float("nan") if window is None else shear_band_angle(*window, cell=band_cell(case))
     return BiaxialResult(phi_peak_deg=float(phi[ipk]), eps_peak=float(eps[ipk]), phi_cs_deg=phi_cs,
                          eps_cs=eps_cs, band_angle_deg=band,
                          phi_from_band_deg=2.0 * (band - 45.0) if math.isfinite(band) and band >= 45.0 else float("nan"),
                          solid_fraction_0=samples[0].solid_fraction, n_grains=n_grains,
                          dilatancy_deg=psi, confining=case.confining, friction=case.friction)
+
+
+def band_window(marks) -> tuple[np.ndarray, np.ndarray] | None:
+    """The grain positions (start, end) the shear band is read between: the post-peak
+    part of the test, from the mark at 40 % of the final strain to the last (None with
+    fewer than 5 marks). ``marks``: (axial strain, positions (n,2)) at each tenth."""
+    if len(marks) < 5:
+        return None
+    return marks[len(marks) * 2 // 5][1], marks[-1][1]
+
+
+def band_cell(case: BiaxialCase) -> float:
+    """The cell of the strain map the band is read on [m]: three median grains."""
+    return 3 * case.grading.d50
 
 
 def strain_field(x0: np.ndarray, x1: np.ndarray, cell: float):

@@ -57,3 +57,26 @@ def test_band_angle_of_a_synthetic_shear_band():
         u = np.outer(np.clip(s / 0.006 + 0.5, 0, 1) * 1e-3, t)
         got = shear_band_angle(x0, x0 + u, cell=0.006)
         assert got == pytest.approx(beta if beta <= 90 else 180 - beta, abs=3.0)
+
+
+def test_the_band_is_drawn_where_a_synthetic_band_lies(tmp_path):
+    """The band figure's line (``studies.biaxial.figures.band_line``) on the strain map
+    of the synthetic band above: at its inclination (55 or 125 deg from the x axis, the
+    angle read being 55 both times) and through it (the line passes within one cell of
+    the band's centre, (0.035, 0.1) m). The figure is written."""
+    from studies.biaxial.figures import band_line
+    from studies.elements.biaxial import strain_field
+    from viz.figures import plot_cell_map
+    rng = np.random.default_rng(0)
+    x0 = rng.uniform([0, 0], [0.07, 0.2], size=(6000, 2))
+    for beta in (55.0, 125.0):
+        th = math.radians(beta)
+        t = np.array([math.cos(th), math.sin(th)])
+        n = np.array([-t[1], t[0]])
+        u = np.outer(np.clip((x0 - [0.035, 0.1]) @ n / 0.006 + 0.5, 0, 1) * 1e-3, t)
+        centres, gamma = strain_field(x0, x0 + u, 0.006)
+        (cx, cy), angle = band_line(centres, gamma, 55.0, 0.006)
+        assert angle == beta
+        assert abs((np.array([cx, cy]) - [0.035, 0.1]) @ n) < 0.006
+        assert plot_cell_map(centres, gamma, tmp_path / f"band{beta:g}.png", cell=0.006, label="strain",
+                             lines=[((cx, cy), angle, "band")]).stat().st_size > 0
