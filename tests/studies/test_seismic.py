@@ -192,6 +192,22 @@ def test_a_wall_that_fails_before_the_shaking_is_not_assessed():
     assert _held({"held": None, "numbers": "not run (needs every frequency)"}) == "not run"
 
 
+def test_far_ground_that_heaves_is_not_settlement_near_zero():
+    """The paper: the settlement is concentrated near the wall and ~0 beyond 8 m. A far
+    ground that heaves by metres (the mu_r 0.2 run: its back corner thrown up, mean
+    -2.34 m beyond 8 m against 0.076 m at the wall) is not ~0; one that settles by a tenth
+    of the wall's settlement is."""
+    from studies.seismic.validate import FAR_SETTLEMENT, single_frequency_trends
+    assert 0.1 < FAR_SETTLEMENT
+    extra = {"mean_thrust_back_kN_per_m": 80.0, "mean_thrust_front_kN_per_m": 80.0, "thrust_back_max_kN_per_m": 150.0,
+             "thrust_back_static_kN_per_m": 75.0, "passive_K_static_at_1_5m": 1.1}
+    rec = {"extra": extra, "pivot_height_over_wall_length": 0.02, "rotation_deg": 2.2, "max_moment_over_static": 1.8,
+           "residual_moment_over_static": 1.5, "passive_K_max_at_1_5m": 8.4, "settlement_at_wall_m": 0.076}
+    key = "settlement concentrated near the wall, ~0 beyond 8 m"
+    assert single_frequency_trends({**rec, "settlement_at_8m_m": -2.34})[key]["held"] is False
+    assert single_frequency_trends({**rec, "settlement_at_8m_m": 0.0076})[key]["held"] is True
+
+
 def test_resolution_changes_set_a_second_resolution_beside_the_first():
     """The report's resolution comparison (issue 26: measure how the results move between
     two resolutions): a top displacement of 0.10 m at the coarse resolution and 0.12 m at
