@@ -24,8 +24,8 @@ def plot_shear_band(test, case: BiaxialCase, band_deg: float, path: Path) -> Pat
     centre, angle = band_line(centres, gamma, band_deg, cell)
     return plot_cell_map(centres, gamma, path, cell=cell, label="incremental max shear strain [-]",
                          lines=[(centre, angle, f"band {band_deg:.0f} deg from the horizontal")],
-                         title=f"biaxial, mu {case.friction:g}, {case.confining / 1e3:g} kPa: strain after the "
-                               "peak (paper: 55 deg)")
+                         title=f"biaxial, mu {case.friction:g}, {case.confining / 1e3:g} kPa:\nstrain after the "
+                               "peak (paper: a band at 55 deg)")
 
 
 def band_line(centres: np.ndarray, gamma: np.ndarray, band_deg: float, cell: float) -> tuple[tuple, float]:
