@@ -45,16 +45,21 @@ def test_friction_angle_of_frictionless_and_frictional_disks(tests_by_mu):
     assert r5.phi_peak_deg >= r5.phi_cs_deg
 
 
+def _synthetic_band(beta: float):
+    """Grains in a 70 x 200 mm specimen (x0 (6000,2) [m]) and their displacements u: those
+    on one side of a band through (0.035, 0.1) m at ``beta`` deg from the x axis slide
+    along it by 1 mm, smeared over a 6 mm band. Returns (x0, u, band normal)."""
+    x0 = np.random.default_rng(0).uniform([0, 0], [0.07, 0.2], size=(6000, 2))
+    th = math.radians(beta)
+    t = np.array([math.cos(th), math.sin(th)])
+    n = np.array([-t[1], t[0]])
+    u = np.outer(np.clip((x0 - [0.035, 0.1]) @ n / 0.006 + 0.5, 0, 1) * 1e-3, t)
+    return x0, u, n
+
+
 def test_band_angle_of_a_synthetic_shear_band():
-    rng = np.random.default_rng(0)
-    x0 = rng.uniform([0, 0], [0.07, 0.2], size=(6000, 2))
     for beta in (55.0, 125.0):
-        th = math.radians(beta)
-        t = np.array([math.cos(th), math.sin(th)])
-        n = np.array([-t[1], t[0]])
-        s = (x0 - [0.035, 0.1]) @ n
-        # grains above the band slide along it by 1 mm, smeared over a 6 mm band
-        u = np.outer(np.clip(s / 0.006 + 0.5, 0, 1) * 1e-3, t)
+        x0, u, _ = _synthetic_band(beta)
         got = shear_band_angle(x0, x0 + u, cell=0.006)
         assert got == pytest.approx(beta if beta <= 90 else 180 - beta, abs=3.0)
 
@@ -67,13 +72,8 @@ def test_the_band_is_drawn_where_a_synthetic_band_lies(tmp_path):
     from studies.biaxial.figures import band_line
     from studies.elements.biaxial import strain_field
     from viz.figures import plot_cell_map
-    rng = np.random.default_rng(0)
-    x0 = rng.uniform([0, 0], [0.07, 0.2], size=(6000, 2))
     for beta in (55.0, 125.0):
-        th = math.radians(beta)
-        t = np.array([math.cos(th), math.sin(th)])
-        n = np.array([-t[1], t[0]])
-        u = np.outer(np.clip((x0 - [0.035, 0.1]) @ n / 0.006 + 0.5, 0, 1) * 1e-3, t)
+        x0, u, n = _synthetic_band(beta)
         centres, gamma = strain_field(x0, x0 + u, 0.006)
         (cx, cy), angle = band_line(centres, gamma, 55.0, 0.006)
         assert angle == beta
