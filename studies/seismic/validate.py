@@ -573,7 +573,7 @@ def resolution_lines(rep: dict) -> list[str]:
             continue
         for f, row in rows.items():
             r = other["frequencies"][f]
-            lines += [f"{f} Hz: {row['particles'][rep['resolution']]} vs {row['particles'][name]} particles "
+            lines += ["", f"{f} Hz: {row['particles'][rep['resolution']]} vs {row['particles'][name]} particles "
                       f"(spheres in the model, the free-field columns apart); {name} wall time "
                       f"{r['wall_time_s']:.0f} s.", "",
                       f"| quantity | {rep['resolution']} | {name} | change |", "|---|---|---|---|"]
