@@ -23,8 +23,6 @@ from pathlib import Path
 
 import numpy as np
 
-from analytic import Soil, Wall, jaky, rankine
-from analytic.arching import handy, khosravi, paik_salgado
 from analytic.classical import jaky_coefficient, rankine_coefficient
 from studies.elements.biaxial import BiaxialCase
 from studies.khosravi.run import KhosraviRun
@@ -39,6 +37,7 @@ from studies.runner import (Stopwatch, drop_checkpoint, finish, finished_result,
 from studies.store import Store, atomic_write, content_key, to_plain
 
 from .specimen import settled_box, specimen_key
+from .theories import theories
 
 #: Khosravi et al.'s published values the report compares with (shipped with the package)
 REFERENCE = Path(__file__).resolve().parent / "reference.json"
@@ -65,15 +64,6 @@ def biaxial_phi(case: KhosraviCase, bar=None, card: Path | tuple[Path, ...] = DE
     if store is not None:
         store.save_json(content_key(bcase), {"source": "biaxial test run by wallsim compare khosravi", "tests": [out]})
     return {**out, "from": "biaxial test run for this comparison"}
-
-
-def theories(phi_deg: float, gamma: float, H: float) -> dict:
-    """Jaky (at rest) and Rankine, Handy, Paik-Salgado, Khosravi (active) for a fully
-    rough wall (delta = phi) and the DEM's phi and unit weight."""
-    soil = Soil(phi_deg, gamma)
-    wall = Wall(H, delta_deg=phi_deg)
-    return {"jaky": jaky(soil, Wall(H)), "rankine": rankine(soil, Wall(H)), "handy": handy(soil, wall),
-            "paik-salgado": paik_salgado(soil, wall), "khosravi": khosravi(soil, wall)}
 
 
 #: the translation's snapshot in the run folder while the run goes on (``_translate``)

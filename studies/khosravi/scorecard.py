@@ -110,9 +110,9 @@ PROFILE_STATEMENTS = (
 
 def profile_parts(res: dict) -> dict:
     """Per active theory, theory / DEM at each active reading (the theories of the
-    report, ``compare.theories``, at its phi, unit weight and H), summed up per part of
+    report, ``theories.theories``, at its phi, unit weight and H), summed up per part of
     the wall: {theory: {"upper"|"lower": (mean ratio, rms of ratio - 1)}}."""
-    from .compare import theories
+    from .theories import theories
     r = res["readings"]
     z, dem = np.array(r["depth_over_H"]), np.array(r["active_over_gammaH"])
     H, gamma = res["H_m"], res["gamma_N_per_m3"]
