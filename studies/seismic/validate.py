@@ -290,8 +290,7 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
     report's did (``rolling_resistance_block``)."""
     freqs = {f: (frequency_record(folders[f], case) if f in folders else None) for f in PAPER_FREQUENCIES}
     block = {"resolution": case.resolution, "grain_scale": case.scale,
-             "frequencies": {f"{f:g}": ({k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
-                                        if r is not None else "not run") for f, r in freqs.items()},
+             "frequencies": {f"{f:g}": (_stored(r) if r is not None else "not run") for f, r in freqs.items()},
              "git": _started_at(folders)}
     path = out_dir / "seismic.json"
     old = json.loads(path.read_text()) if path.is_file() else None
@@ -336,10 +335,13 @@ def rolling_resistance_block(case: SeismicCase, kept: dict, runs: dict) -> dict:
     for mu_r, by_freq in runs.items():
         c = dataclasses.replace(case, rolling_resistance=mu_r)
         recs = {f"{f:g}": frequency_record(folder, dataclasses.replace(c, frequency=f)) for f, folder in by_freq.items()}
-        out[f"{mu_r:g}"] = {**out.get(f"{mu_r:g}", {}),
-                            **{f: {k: r[k] for k in KEYS} | {"trends": r["trends"], "extra": r["extra"]}
-                               for f, r in recs.items()}}
+        out[f"{mu_r:g}"] = {**out.get(f"{mu_r:g}", {}), **{f: _stored(r) for f, r in recs.items()}}
     return dict(sorted(out.items(), key=lambda kv: float(kv[0])))
+
+
+def _stored(rec: dict) -> dict:
+    """One frequency's record as the report keeps it: the KEYS, its trends and extra."""
+    return {k: rec[k] for k in KEYS} | {"trends": rec["trends"], "extra": rec["extra"]}
 
 
 def _rest_s(block: dict) -> float:
