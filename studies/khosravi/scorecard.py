@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from ..scorecard import Row, number_verdict, trend_verdict
+from .theories import theories
 
 CALIBRATED = "partly by construction: the grain friction was calibrated to this angle (biaxial card)"
 
@@ -112,7 +113,6 @@ def profile_parts(res: dict) -> dict:
     """Per active theory, theory / DEM at each active reading (the theories of the
     report, ``theories.theories``, at its phi, unit weight and H), summed up per part of
     the wall: {theory: {"upper"|"lower": (mean ratio, rms of ratio - 1)}}."""
-    from .theories import theories
     r = res["readings"]
     z, dem = np.array(r["depth_over_H"]), np.array(r["active_over_gammaH"])
     H, gamma = res["H_m"], res["gamma_N_per_m3"]
