@@ -288,14 +288,17 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
     default resolution only) replace those values' entries of the report's
     ``rolling_resistance`` block; the others are kept while their runs rested as this
     report's did (``rolling_resistance_block``)."""
-    freqs = {f: (frequency_record(folders[f], case) if f in folders else None) for f in PAPER_FREQUENCIES}
-    block = {"resolution": case.resolution, "grain_scale": case.scale,
-             "frequencies": {f"{f:g}": (_stored(r) if r is not None else "not run") for f, r in freqs.items()},
-             "git": _started_at(folders)}
     path = out_dir / "seismic.json"
     old = json.loads(path.read_text()) if path.is_file() else None
     default = SeismicCase().resolution
-    if case.resolution == default or old is None or old.get("resolution") != default:
+    main = old is None or case.resolution == default or old.get("resolution") != default
+    earlier = old if main else (old.get("other_resolutions", {}).get(case.resolution) if old else None)
+    kept = {f: r for f, r in kept_records(earlier, case).items() if f not in folders}
+    freqs = {f: (frequency_record(folders[f], case) if f in folders else kept.get(f)) for f in PAPER_FREQUENCIES}
+    block = {"resolution": case.resolution, "grain_scale": case.scale,
+             "frequencies": {f"{f:g}": (_stored(r) if r is not None else "not run") for f, r in freqs.items()},
+             "git": _started_at(folders, earlier if kept else None)}
+    if main:
         rep = block | {"trends_across_frequencies": across_frequencies(freqs), "versions": package_versions(),
                        "reproducibility": reproducibility.describe(),
                        "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
@@ -304,14 +307,17 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
             rep["other_resolutions"], superseded = _same_protocol(old["other_resolutions"], case)
             if superseded:
                 rep["superseded"] = superseded
-        if folders:
+        if folders and not kept:
             rep["figures"] = report_figures(folders, out_dir)
-        kept = (old or {}).get("rolling_resistance", {}).get("runs", {})
-        mu_r = rolling_resistance_block(case, kept, rolling_resistance_runs or {})
+        elif kept and "figures" in old:
+            rep["figures"] = old["figures"]     # drawn from every frequency's folder; some are not here
+        mu_r = rolling_resistance_block(case, (old or {}).get("rolling_resistance", {}).get("runs", {}),
+                                        rolling_resistance_runs or {})
         if mu_r:
             rep["rolling_resistance"] = {"report_value": case.rolling_resistance, "runs": mu_r}
     else:
         rep = old
+        block["trends_across_frequencies"] = across_frequencies(freqs)
         rep.setdefault("other_resolutions", {})[case.resolution] = block
     rep["resolution_changes"] = resolution_changes(rep)
     if material is not None and Path(material).is_file():
@@ -439,8 +445,23 @@ def material_lines(mat: dict) -> list[str]:
     return out
 
 
-def _started_at(folders: dict) -> str:
-    revs = []
+def kept_records(block: dict | None, case: SeismicCase) -> dict:
+    """The finished frequencies of an earlier report ``block`` (one resolution's) that ran
+    ``case`` itself: their run folder is this case's ``run_name`` at that frequency (the
+    content key of every case field), so a report written where those folders are absent
+    keeps them instead of calling them not run. Prototype Hz -> stored record."""
+    out = {}
+    for f, rec in ((block or {}).get("frequencies") or {}).items():
+        if rec != "not run" and \
+                Path(rec["extra"]["run_folder"]).name == run_name(dataclasses.replace(case, frequency=float(f))):
+            out[float(f)] = rec
+    return out
+
+
+def _started_at(folders: dict, earlier: dict | None = None) -> str:
+    """The git revisions the runs started at (their manifests), after those of the
+    ``earlier`` block whose records are kept."""
+    revs = [r.strip() for r in earlier["git"].split(",")] if earlier else []
     for _, folder in sorted(folders.items()):
         man = Path(folder) / "manifest.json"
         revs.append(json.loads(man.read_text()).get("git", "?") if man.is_file() else git_revision())
@@ -569,6 +590,11 @@ def resolution_lines(rep: dict) -> list[str]:
         other = rep["other_resolutions"][name]
         lines += ["", f"## How the results move with resolution: {rep['resolution']} (grain scale "
                       f"{rep['grain_scale']:g}) vs {name} (grain scale {other['grain_scale']:g}, git {other['git']})", ""]
+        across = other.get("trends_across_frequencies", {})
+        if across:
+            lines += [f"Trends across frequencies at {name}:", ""]
+            lines += [f"- {t}: **{_held(v)}** ({v['numbers']})" for t, v in across.items()]
+            lines.append("")
         if not rows:
             lines.append(f"No frequency was run at both resolutions ({name}: "
                          f"{', '.join(f for f, r in other['frequencies'].items() if r != 'not run') or 'none'}).")

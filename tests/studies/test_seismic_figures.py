@@ -178,3 +178,38 @@ def test_validating_one_frequency_keeps_the_others_and_sets_mu_r_beside_the_case
     assert f"| top_displacement_m | {top:.4g} | {top:.4g} |" in md
     again = write_report(case, {5.0: folder}, tmp_path)          # kept: the same rest before shaking
     assert again["rolling_resistance"] == json.loads(json.dumps(rep["rolling_resistance"]))
+
+
+def test_a_report_written_without_the_run_folders_keeps_the_frequencies_they_ran(tiny_run, tmp_path):
+    """A new machine has none of the earlier run folders: writing the report with one
+    new frequency keeps the others that ran this very case (their stored run folder is
+    this case's run_name), at the default resolution and at another alike; a record of
+    another case (another folder name) is not kept. The kept records are the stored
+    ones bit for bit (result.json's residual top displacement), and the other
+    resolution's block gets its trends across frequencies (not run: two are missing)."""
+    import dataclasses
+    import shutil
+
+    from studies.seismic.validate import run_name, write_report
+    case, result, folder = tiny_run
+    top = result["prototype"]["residual"]["top_displacement_m"]
+    for c in (case, dataclasses.replace(case, resolution="medium")):
+        machine = tmp_path / c.resolution
+        runs = {f: machine / run_name(dataclasses.replace(c, frequency=f)) for f in (1.0, 3.0, 5.0)}
+        for d in runs.values():
+            shutil.copytree(folder, d)
+        if c is not case:
+            write_report(case, {}, machine)                       # a default-resolution report to sit in
+        write_report(c, {1.0: runs[1.0], 3.0: runs[3.0]}, machine)
+        path = machine / "seismic.json"
+        rep = json.loads(path.read_text())
+        block = rep if c is case else rep["other_resolutions"]["medium"]
+        block["frequencies"]["3"]["extra"]["run_folder"] = "runs/seismic/validate-3Hz-another-case"
+        path.write_text(json.dumps(rep))
+        shutil.rmtree(runs[1.0]), shutil.rmtree(runs[3.0])      # a fresh machine
+        rep = write_report(c, {5.0: runs[5.0]}, machine)
+        block = rep if c is case else rep["other_resolutions"]["medium"]
+        assert block["frequencies"]["1"]["top_displacement_m"] == top
+        assert block["frequencies"]["3"] == "not run" and block["frequencies"]["5"] != "not run"
+        assert block["trends_across_frequencies"]["largest settlement at 5 Hz"]["numbers"] == \
+            "not run (needs every frequency; missing 3, 4, 6 Hz)"
