@@ -593,17 +593,18 @@ def resolution_lines(rep: dict) -> list[str]:
         across = other.get("trends_across_frequencies", {})
         if across:
             lines += [f"Trends across frequencies at {name}:", ""]
-            lines += [f"- {t}: **{_held(v)}** ({v['numbers']})" for t, v in across.items()]
-            lines.append("")
+            lines += [f"- {t}: " + (v["numbers"] if v["held"] is None else f"**{_held(v)}** ({v['numbers']})")
+                      for t, v in across.items()]
         if not rows:
             lines.append(f"No frequency was run at both resolutions ({name}: "
                          f"{', '.join(f for f, r in other['frequencies'].items() if r != 'not run') or 'none'}).")
             continue
         for f, row in rows.items():
             r = other["frequencies"][f]
+            cpu = r["extra"].get("cpu_time_s")
+            cost = f"{name} CPU {cpu:.0f} s" if cpu is not None else f"{name} wall time {r['wall_time_s']:.0f} s"
             lines += ["", f"{f} Hz: {row['particles'][rep['resolution']]} vs {row['particles'][name]} particles "
-                      f"(spheres in the model, the free-field columns apart); {name} wall time "
-                      f"{r['wall_time_s']:.0f} s.", "",
+                      f"(spheres in the model, the free-field columns apart); {cost}.", "",
                       f"| quantity | {rep['resolution']} | {name} | change |", "|---|---|---|---|"]
             for k in [k for k in KEYS if k != "wall_time_s"] + list(COMPARED_EXTRA):
                 c = row[k]
