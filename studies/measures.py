@@ -74,3 +74,32 @@ def dem_profile(depth: np.ndarray, sigma: np.ndarray, tau: np.ndarray, panel_hei
     K = 2.0 * F / (gamma * H**2)
     return Profile("dem", depth[below][order], sigma[below][order], tau[below][order], F, F, h, K, K, H,
                    source=source, status="measured")
+
+
+def displacement_parallelism(start: np.ndarray, end: np.ndarray, *, axes=(0, 2),
+                             moving_fraction: float = 0.25) -> dict:
+    """How nearly parallel the grain displacements of the moving region are, in the plane
+    of ``axes`` (x, z: the side view). Nadukuru & Michalowski (2012, text of Fig. 3): in
+    translation and rotation about the base "all displacement vectors tend to be
+    parallel", inclined along a failure plane; in rotation about the top the field is
+    curved.
+
+    The moving region: grains whose in-plane displacement is at least
+    ``moving_fraction`` of the 99th percentile of all (the percentile, not the maximum,
+    so one thrown grain does not set it). Returns moving_grains, resultant_length R =
+    |mean of their unit displacement vectors| (1: all parallel, 0: no common direction:
+    the mean resultant length of directional statistics), spread_deg, the circular
+    standard deviation sqrt(-2 ln R) of their directions [deg] (Mardia & Jupp 2000,
+    eq. 2.3.11; 0 when parallel), and inclination_deg, the direction of that mean below
+    the horizontal [deg] (positive: downward)."""
+    i, j = axes
+    u = (np.asarray(end, float) - np.asarray(start, float))[:, [i, j]]
+    size = np.hypot(u[:, 0], u[:, 1])
+    moving = size >= moving_fraction * np.percentile(size, 99.0)
+    moving &= size > 0.0
+    e = u[moving] / size[moving, None]
+    mean = e.mean(axis=0) if len(e) else np.zeros(2)
+    r = float(min(np.hypot(*mean), 1.0))           # 1 + an ulp for a parallel field
+    spread = float(np.degrees(np.sqrt(-2.0 * np.log(r)))) if r > 0.0 else float("inf")
+    return {"moving_grains": int(moving.sum()), "resultant_length": r, "spread_deg": spread,
+            "inclination_deg": float(np.degrees(np.arctan2(-mean[1], abs(mean[0]))))}

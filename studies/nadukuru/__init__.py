@@ -92,8 +92,10 @@ def _word_list(name: str, allowed: tuple[str, ...]):
 
 def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     from ..progress import log_stream, progress
-    from .validate import validate_nadukuru
+    from .validate import rewrite, validate_nadukuru
 
+    if opts.report_only:
+        return rewrite(Path(opts.docs)), f"report: {Path(opts.docs) / 'nadukuru.md'}"
     with progress(opts.quiet) as bar:
         rep = validate_nadukuru(case, out_dir=Path(opts.docs), root=Path(opts.out), walls=opts.walls,
                                 modes=opts.modes, triaxial=not opts.no_triaxial,
@@ -145,6 +147,8 @@ VALIDATE = Command(
         Option("--no-rate-check", "skip the half-speed repeat of translation", switch=True),
         Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
                parse=output_folder("docs")),
+        Option("--report-only", "write nadukuru.{json,md} in --docs again from the report there: the scorecard "
+               "and text of today's code, Figs. 4 and 5 from the data the report keeps; nothing run", switch=True),
         VTK,
     ))
 

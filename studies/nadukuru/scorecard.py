@@ -142,6 +142,24 @@ def _spread(s: dict, rep: dict, ref: dict) -> Row:
                s.get("note", ""))
 
 
+def _parallel_fields(s: dict, rep: dict, ref: dict) -> Row:
+    """On each wall, the displacement fields of the ``parallel`` modes more nearly
+    parallel than that of the ``curved`` mode: their mean resultant length R
+    (``studies.measures.displacement_parallelism``) above its R."""
+    holds, shown = [], []
+    for wall in s["walls"]:
+        modes = rep["walls"].get(wall, {}).get("modes", {})
+        d = {m: modes[m]["displacement_field"] for m in [*s["parallel"], s["curved"]]
+             if "displacement_field" in modes.get(m, {})}
+        if len(d) < len(s["parallel"]) + 1:
+            return _not_run(s, rep, ref)
+        holds.append(all(d[m]["resultant_length"] > d[s["curved"]]["resultant_length"] for m in s["parallel"]))
+        shown.append(f"{wall}: R " + ", ".join(f"{m} {v['resultant_length']:.3f}" for m, v in d.items())
+                     + " (spread " + ", ".join(f"{v['spread_deg']:.0f}" for v in d.values()) + " deg)")
+    return Row(s["statement"], s["where"], s["paper_text"], "; ".join(shown), s["tolerance"],
+               trend_verdict(all(holds)), s.get("agreement", "independent"), s.get("note", ""))
+
+
 def _not_run(s: dict, rep: dict, ref: dict) -> Row:
     """A statement no run of the report tests."""
     tol = s.get("tolerance", "")
@@ -151,4 +169,4 @@ def _not_run(s: dict, rep: dict, ref: dict) -> Row:
 
 _ROWS = {"table": _table_value, "specimen": _specimen_value, "triaxial": _triaxial, "order": _ordering,
          "close": _close, "steady": _steady, "steady_before": _steady_before, "rough_below_smooth": _rough_below_smooth,
-         "spread": _spread, "not_run": _not_run}
+         "spread": _spread, "parallel_fields": _parallel_fields, "not_run": _not_run}

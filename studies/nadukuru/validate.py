@@ -29,7 +29,8 @@ import reproducibility
 
 from analytic.constants import G
 
-from ..granular.wall import MODES, WallSetup
+from ..granular.wall import MODE_TITLES, MODES, WallSetup
+from ..measures import displacement_parallelism
 from .case import REFERENCE, NadukuruCase, paper_values, rough_or_smooth
 from .compare import theory_rows
 from .scorecard import scorecard_rows
@@ -68,12 +69,13 @@ def validate_nadukuru(base: NadukuruCase, *, out_dir: Path = Path("docs/validati
     report["phi_for_theories"] = {"deg": phi, "source": phi_src}
     for wall_kind in walls:
         case = dataclasses.replace(base, wall=dataclasses.replace(base.wall, friction=rough_or_smooth(wall_kind)))
-        entry, drawn = _validate_wall(case, wall_kind, modes, phi, phi_src, rate_check, root, progress, log)
+        entry, fields = _validate_wall(case, wall_kind, modes, phi, phi_src, rate_check, root, progress, log)
         report["walls"][wall_kind] = entry
         if set(modes) != set(MODES):    # a partial rerun: the figures need every mode, keep the old ones
             log(f"{wall_kind}: figures not redrawn (modes {','.join(modes)} only)")
             continue
-        _draw_wall_figures(out_dir, wall_kind, case, modes, *drawn)
+        _draw_wall_figures(out_dir, wall_kind, entry)
+        _copy_fields(out_dir, wall_kind, fields)
     report["wall_time_s"] = time.perf_counter() - t0
     return _write_report(report, out_dir)
 
@@ -124,16 +126,17 @@ def triaxial_run(base: NadukuruCase, root: Path, progress=None, log=print) -> di
     return finished_result(folder)
 
 
-def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every: int = 0, chains: str | None = None,
+def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every: int = 0, fields: str | None = None,
                  progress=None, log=print) -> tuple[dict, dict, Path]:
     """One wall movement of the validation (``run_modes`` on ``case`` from the settled
     ``spec``) in the run folder ``<root>/nadukuru/validate-<what>-<key>`` (key: the hash
     of the resolved case, so a changed setting never reads a stale run): read when it
     holds a finished run, resumed from its checkpoint when it holds an interrupted one,
     else run there. Returns (result.json, history.npz: the load history and the active
-    figures exactly as ``run_modes`` gave them, the folder). ``chains``: the wall's word,
+    figures exactly as ``run_modes`` gave them, the folder). ``fields``: the wall's word,
     to draw the force chains at the end (force_chains.png) and the displacements over the
-    movement (displacements.png) in the folder."""
+    movement (displacements.png) in the folder, and to measure how parallel those
+    displacements are (result.json ``displacement_field``)."""
     folder = Path(root) / "nadukuru" / f"validate-{what}-{content_key(case)}"
     if finished_result(folder) is not None:
         log(reusing_line(folder))
@@ -144,18 +147,21 @@ def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every
         elif folder.exists():
             shutil.rmtree(folder)
         _move(case, spec, open_run_folder("nadukuru", case, root, name=folder.name, resume=resume), frame_every,
-              chains, progress)
+              fields, progress)
     return finished_result(folder), load_npz(folder / "history.npz"), folder
 
 
+#: the modes whose displacement field is drawn and measured: the paper draws RT's
+#: (Fig. 3a) and describes T's and RB's ("all displacement vectors tend to be parallel")
+FIELD_MODES = ("T", "RB", "RT")
 #: the history arrays and active figures of a movement that its run folder keeps (history.npz)
 _HISTORY = ("wall_disp_over_H", "K", "resultant_height_over_H", "segment_stress_active", "K_active",
             "resultant_height_over_H_active", "wall_disp_over_H_steady")
 
 
-def _move(case: NadukuruCase, spec, rf, frame_every: int, chains: str | None, progress) -> None:
+def _move(case: NadukuruCase, spec, rf, frame_every: int, fields: str | None, progress) -> None:
     """Move the wall in run folder ``rf`` (checkpoints/movement.npz, resumed from when
-    there), then write history.npz, the figures of ``chains`` and result.json (last)."""
+    there), then write history.npz, the figures of ``fields`` and result.json (last)."""
     first = rf.path / "first_positions.npz"         # kept, so a resumed run draws the whole movement
     last = {}
     # --vtk: the frames of a compare run at its default cadence, written as VTK only
@@ -165,7 +171,7 @@ def _move(case: NadukuruCase, spec, rf, frame_every: int, chains: str | None, pr
         frame_every = min(f for f in (frame_every, compare_frame_every(case)) if f)
 
     def on_frame(frame, sample):
-        if chains and not first.is_file():
+        if fields and not first.is_file():
             atomic_write(first, npz_bytes({"positions": frame.positions}))
         last["frame"] = frame
         rec.log_frame(frame, wall_disp_over_H=sample.wall_disp_over_H)
@@ -176,8 +182,11 @@ def _move(case: NadukuruCase, spec, rf, frame_every: int, chains: str | None, pr
     seconds = time.perf_counter() - tm
     rec.close()
     atomic_write(rf.path / "history.npz", npz_bytes({k: np.asarray(hist[k]) for k in _HISTORY}))
-    if chains and "frame" in last:
-        _draw_chains(rf.path, chains, load_npz(first)["positions"], last["frame"])
+    field = None
+    if fields and "frame" in last:
+        start = load_npz(first)["positions"]
+        _draw_fields(rf.path, fields, case.movement.mode, start, last["frame"])
+        field = displacement_parallelism(start, last["frame"].positions)
     (rf.path / "checkpoints" / "movement.npz").unlink(missing_ok=True)        # finished: nothing to resume
     if (rf.path / "checkpoints").is_dir() and not any((rf.path / "checkpoints").iterdir()):
         (rf.path / "checkpoints").rmdir()
@@ -185,26 +194,31 @@ def _move(case: NadukuruCase, spec, rf, frame_every: int, chains: str | None, pr
               "resultant_height_over_H_active": hist["resultant_height_over_H_active"],
               "wall_disp_over_H_steady": hist["wall_disp_over_H_steady"], "wall_time_s": seconds,
               "particles": spec.n_spheres, "seed": case.seed}
+    if field is not None:
+        result["displacement_field"] = field
     finish(rf, result, main=False, particles=spec.n_spheres, dt=spec.dt)
 
 
-def _draw_chains(folder: Path, wall_kind: str, start: np.ndarray, frame) -> None:
-    """The force chains at the end of a rotation about the top and its Fig. 3(a)
-    displacement field from ``start`` (positions of the first frame) to ``frame``."""
+def _draw_fields(folder: Path, wall_kind: str, mode: str, start: np.ndarray, frame) -> None:
+    """The force chains at the end of a movement and its Fig. 3(a) displacement field
+    from ``start`` (positions of the first frame) to ``frame`` (the paper draws it for
+    rotation about the top and describes it for translation and rotation about the
+    base)."""
     from viz.figures import plot_displacement_field, plot_force_chains
+    what = MODE_TITLES[mode]
     plot_force_chains(frame, folder / "force_chains.png",
-                      title=f"Rotation about the top, {wall_kind} wall: force chains at the end")
+                      title=f"{what.capitalize()}, {wall_kind} wall: force chains at the end")
     plot_displacement_field(start, frame.positions, folder / "displacements.png",
-                            title=f"Fig. 3(a): rotation about the top, {wall_kind} wall,\n"
+                            title=f"Fig. 3(a): {what}, {wall_kind} wall,\n"
                                   "displacements x15 at the end of the movement")
 
 
 def _validate_wall(case: NadukuruCase, wall_kind: str, modes, phi: float, phi_src: str, rate_check: bool,
-                   root: Path, progress, log) -> tuple[dict, tuple]:
+                   root: Path, progress, log) -> tuple[dict, dict]:
     """One wall kind: its settled specimen (cached under ``root``), each mode against the
     paper and, with ``rate_check``, translation at half speed. Returns (the report entry,
-    what the figures need: specimen, K curves, segment stresses, the RT run's folder with
-    its force chains and displacements, or None)."""
+    each mode's row with the data of its Figs. 4 and 5 (``figure_data``); the run folders
+    of the modes with displacement fields, FIELD_MODES, by mode)."""
     tp = time.perf_counter()
     spec, cached = load_or_prepare(case, root / "nadukuru" / "specimens", progress)
     entry = {"specimen": {"particles": spec.n_spheres, "bodies": spec.n_bodies, "porosity": spec.porosity,
@@ -214,40 +228,58 @@ def _validate_wall(case: NadukuruCase, wall_kind: str, modes, phi: float, phi_sr
                           "wall_time_s": None if cached else time.perf_counter() - tp, "cached": cached},
              "modes": {}}
     log(f"{wall_kind}: specimen n {spec.porosity:.3f}, K0 {spec.K_at_rest:.3f}")
-    curves, segs, chains = {}, {}, None
+    fields = {}
     gamma = case.specimen.density * (1 - spec.porosity) * G
     for mode in modes:
         row, hist, folder = _validate_mode(case, spec, mode, wall_kind, phi, phi_src, gamma, root, progress, log)
+        row["figure_data"] = figure_data(hist, gamma * case.wall.height, case.movement.wall_disp_over_H)
         entry["modes"][mode] = row
-        curves[mode] = (hist["wall_disp_over_H"], hist["K"])
-        segs[mode] = hist["segment_stress_active"][::-1] / (gamma * case.wall.height)
-        if mode == "RT" and (folder / "force_chains.png").is_file():
-            chains = folder
+        if mode in FIELD_MODES and (folder / "displacements.png").is_file():
+            fields[mode] = folder
         paper = row["paper"]
         log(f"{wall_kind} {mode}: K {row['K']:.3f} (paper {paper['K']}), h/H {row['resultant_height_over_H']:.3f} "
             f"(paper {paper['resultant_height_over_H']}), {row['wall_time_s']:.0f} s")
     if rate_check and "T" in modes:
         entry["rate_check"] = _rate_check(case, spec, entry["modes"]["T"]["K"], wall_kind, root, progress, log)
         log(f"{wall_kind} T at half speed: K {entry['rate_check']['K']:.3f}")
-    return entry, (spec, curves, segs, chains)
+    return entry, fields
+
+
+#: points kept of each K curve in the report (enough to draw Fig. 4 at its size)
+CURVE_POINTS = 200
+
+
+def figure_data(hist: dict, gamma_H: float, wall_disp_over_H: float) -> dict:
+    """What Figs. 4 and 5 draw of one movement, kept in the report so the figures can be
+    drawn again without the runs (``rewrite``): the K curve at up to CURVE_POINTS evenly
+    spaced readings (first and last kept), the active segment stresses over gamma H
+    [-] from the top segment down, and the movement they are read at."""
+    x, k = np.asarray(hist["wall_disp_over_H"]), np.asarray(hist["K"])
+    keep = np.unique(np.linspace(0, len(x) - 1, min(len(x), CURVE_POINTS)).round().astype(int))
+    return {"wall_disp_over_H": x[keep].tolist(), "K": k[keep].tolist(),
+            "segment_stress_over_gamma_H": (np.asarray(hist["segment_stress_active"])[::-1] / gamma_H).tolist(),
+            "segments_read_at_wall_disp_over_H": wall_disp_over_H}
 
 
 def _validate_mode(case: NadukuruCase, spec, mode: str, wall_kind: str, phi: float, phi_src: str, gamma: float,
                    root: Path, progress, log) -> tuple[dict, dict, Path]:
     """One mode from the settled specimen (``movement_run``): its report row (active K and
     resultant height against the paper within TOL_K, TOL_H; the theories at ``phi`` [deg]
-    and the unit weight ``gamma`` [N/m^3]), the load history, and its run folder (for RT
-    with the force chains and displacements)."""
+    and the unit weight ``gamma`` [N/m^3]; for FIELD_MODES how parallel the displacements
+    are), the load history, and its run folder (for FIELD_MODES with the force chains and
+    displacements)."""
     c = dataclasses.replace(case, movement=dataclasses.replace(case.movement, mode=mode))
     res, hist, folder = movement_run(c, spec, f"{wall_kind}-{mode}", root,
                                      frame_every=10**9 if mode != "RT" else 10**5,
-                                     chains=wall_kind if mode == "RT" else None, progress=progress, log=log)
+                                     fields=wall_kind if mode in FIELD_MODES else None, progress=progress, log=log)
     paper = paper_values(mode, wall_kind)
     row = {"K": float(hist["K_active"]), "resultant_height_over_H": float(hist["resultant_height_over_H_active"]),
            "wall_disp_over_H_steady": float(hist["wall_disp_over_H_steady"]), "wall_time_s": res["wall_time_s"],
            "particles": spec.n_spheres, "seed": case.seed, "paper": paper,
            "theory": theory_rows(mode, phi, case.wall.friction, gamma, case.wall.height,
                                  phi_src)}
+    if "displacement_field" in res:
+        row["displacement_field"] = res["displacement_field"]
     if paper["K"] is not None:
         row["K_within_tol"] = abs(row["K"] - paper["K"]) <= TOL_K
         row["height_within_tol"] = abs(row["resultant_height_over_H"] - paper["resultant_height_over_H"]) <= TOL_H
@@ -264,28 +296,57 @@ def _rate_check(case: NadukuruCase, spec, K_translation: float, wall_kind: str, 
     return {"speed_m_per_s": c.movement.speed, "K": K, "dK": K - K_translation, "wall_time_s": res["wall_time_s"]}
 
 
-def _draw_wall_figures(out_dir: Path, wall_kind: str, case: NadukuruCase, modes, spec, curves: dict, segs: dict,
-                       chains: Path | None) -> None:
-    """Figs. 4 and 5 of the paper for one wall (K vs Delta/H, segment stresses) and, when
-    the RT run drew them (``chains``, its folder), its force chains and Fig. 3(a)
-    displacement field."""
+def _draw_wall_figures(out_dir: Path, wall_kind: str, entry: dict) -> bool:
+    """Figs. 4 and 5 of the paper for one wall (K vs Delta/H, segment stresses) from its
+    report entry's ``figure_data``; False (nothing drawn) when a mode lacks it (a report
+    written before it was kept)."""
     from .figures import plot_load_history, plot_segment_stress
 
+    modes = entry["modes"]
+    if not all("figure_data" in r for r in modes.values()):
+        return False
+    data = {m: r["figure_data"] for m, r in modes.items()}
+    curves = {m: (d["wall_disp_over_H"], d["K"]) for m, d in data.items()}
     paper_K = {m: paper_values(m, wall_kind)["K"] for m in modes if paper_values(m, wall_kind)["K"]}
-    plot_load_history(curves, out_dir / f"nadukuru_fig4_{wall_kind}.png", paper=paper_K,
-                      at_rest=spec.K_at_rest, title=f"K vs wall movement, {wall_kind} wall ({spec.n_spheres} spheres)")
-    edges = np.linspace(0, 1, case.wall.segments + 1)
+    spec = entry["specimen"]
+    plot_load_history(curves, out_dir / f"nadukuru_fig4_{wall_kind}.png", paper=paper_K, at_rest=spec["K_at_rest"],
+                      title=f"K vs wall movement, {wall_kind} wall ({spec['particles']} spheres)")
+    segs = {m: d["segment_stress_over_gamma_H"] for m, d in data.items()}
+    edges = np.linspace(0, 1, len(next(iter(segs.values()))) + 1)
+    at = next(iter(data.values()))["segments_read_at_wall_disp_over_H"]
     plot_segment_stress(segs, edges, out_dir / f"nadukuru_fig5_{wall_kind}.png",
-                        title=f"Segment stress at Delta/H = {case.movement.wall_disp_over_H}, {wall_kind} wall")
-    if chains is not None:
-        shutil.copyfile(chains / "force_chains.png", out_dir / f"nadukuru_chains_RT_{wall_kind}.png")
-        shutil.copyfile(chains / "displacements.png", out_dir / f"nadukuru_fig3a_RT_{wall_kind}.png")
+                        title=f"Segment stress at Delta/H = {at:g}, {wall_kind} wall")
+    return True
+
+
+def _copy_fields(out_dir: Path, wall_kind: str, fields: dict) -> None:
+    """The Fig. 3(a) displacement field of each mode in ``fields`` (mode -> run folder)
+    and the force chains of RT, from the run folders into ``out_dir``."""
+    for mode, folder in fields.items():
+        shutil.copyfile(folder / "displacements.png", out_dir / f"nadukuru_fig3a_{mode}_{wall_kind}.png")
+        if mode == "RT":
+            shutil.copyfile(folder / "force_chains.png", out_dir / f"nadukuru_chains_RT_{wall_kind}.png")
 
 
 def _write_report(report: dict, out_dir: Path) -> dict:
     """Merge with the previous ``nadukuru.json`` (``_keep_other_walls``), write it and
-    ``nadukuru.md`` (with the hand-written discussion, if any). Returns the merged report."""
-    report = _keep_other_walls(report, out_dir / "nadukuru.json")
+    ``nadukuru.md`` (``_write``). Returns the merged report."""
+    return _write(_keep_other_walls(report, out_dir / "nadukuru.json"), out_dir)
+
+
+def rewrite(out_dir: Path) -> dict:
+    """``nadukuru.json`` and ``nadukuru.md`` in ``out_dir`` written again from the report
+    there, nothing run: today's scorecard and text, and Figs. 4 and 5 of each wall whose
+    report keeps their data (``figure_data``)."""
+    report = with_current_names(json.loads((out_dir / "nadukuru.json").read_text()))
+    for wall_kind, entry in report["walls"].items():
+        _draw_wall_figures(out_dir, wall_kind, entry)
+    return _write(report, out_dir)
+
+
+def _write(report: dict, out_dir: Path) -> dict:
+    """The scorecard of ``report``, then ``nadukuru.json`` and ``nadukuru.md`` (with the
+    hand-written discussion, if any) in ``out_dir``."""
     report["scorecard"] = scorecard(report, out_dir)
     atomic_write(out_dir / "nadukuru.json", (json.dumps(to_plain(report), indent=1) + "\n").encode())
     notes = out_dir / "nadukuru_discussion.md"
@@ -408,10 +469,19 @@ def _markdown_wall(wall: str, e: dict, git: str, figures_dir: Path | None) -> li
             L.append(f"- {m}, theory K / h/H: " + "; ".join(got))
     L += ["", f"![K vs movement](nadukuru_fig4_{wall}.png) ![segments](nadukuru_fig5_{wall}.png)", ""]
     if "RT" in e["modes"]:
-        L += [f"![force chains, RT](nadukuru_chains_RT_{wall}.png)"
-              + (f" ![displacements, RT](nadukuru_fig3a_RT_{wall}.png)"
-                 if figures_dir is not None and (figures_dir / f"nadukuru_fig3a_RT_{wall}.png").exists()
-                 else ""), ""]
+        L += [f"![force chains, RT](nadukuru_chains_RT_{wall}.png)", ""]
+    drawn = [m for m in FIELD_MODES if m in e["modes"] and figures_dir is not None
+             and (figures_dir / f"nadukuru_fig3a_{m}_{wall}.png").exists()]
+    if drawn:
+        L += [" ".join(f"![displacements, {m}](nadukuru_fig3a_{m}_{wall}.png)" for m in drawn), ""]
+    measured = {m: e["modes"][m]["displacement_field"] for m in FIELD_MODES
+                if "displacement_field" in e["modes"].get(m, {})}
+    if measured:
+        L += ["Displacement field at the end of the movement (grains moving at least a quarter of the 99th "
+              "percentile; R = 1: all parallel; spread: the circular standard deviation of their directions): "
+              + "; ".join(f"{m} R {d['resultant_length']:.3f} (spread {d['spread_deg']:.0f} deg), mean "
+                          f"{d['inclination_deg']:.0f} deg below the horizontal, {d['moving_grains']} grains"
+                          for m, d in measured.items()) + ".", ""]
     return L
 
 

@@ -154,3 +154,20 @@ def test_checkpoints_come_with_progress_as_well_as_time(specimen):
     # each mark lands on the first sample at or past its tenth (samples are 50 steps apart)
     for k, f in enumerate(fractions, start=1):
         assert k / 10 - 1e-9 <= f < k / 10 + 0.05
+
+
+def test_a_translation_draws_and_measures_its_displacement_field(specimen, tmp_path):
+    """The validation's translation with its field (``movement_run`` with ``fields``):
+    displacements.png and force_chains.png in the run folder, and the measure of Fig. 3's
+    text in result.json. The wall moves away from the fill (-x), so the active wedge
+    follows it and drops: the mean displacement points to -x and down (inclination
+    between 0 and 90 deg below the horizontal)."""
+    from studies.nadukuru.validate import movement_run
+    case = dataclasses.replace(SMALL, movement=Movement(mode="T", wall_disp_over_H=0.004))
+    res, _, folder = movement_run(case, specimen, "rough-T", tmp_path, frame_every=10**9, fields="rough",
+                                  log=lambda msg: None)
+    field = res["displacement_field"]
+    assert (folder / "displacements.png").stat().st_size > 0 and (folder / "force_chains.png").stat().st_size > 0
+    assert field["moving_grains"] > 0
+    assert 0.0 < field["inclination_deg"] < 90.0
+    assert 0.0 < field["resultant_length"] <= 1.0

@@ -35,3 +35,57 @@ def test_rerun_of_one_mode_keeps_the_others_with_their_revision(tmp_path):
     assert new["wall_time_s"] == 200.0
     text = markdown(new)
     assert "| T | 0.250 |" in text and "| bbb |" in text and "| aaa |" in text
+
+
+def test_figure_data_keeps_the_curve_ends_and_the_segments_top_down():
+    """Figs. 4 and 5 drawn again from the report: 1,000 readings kept as 200 evenly spaced
+    ones with the first and last, and the active segment stresses (stored bottom up)
+    reversed and divided by gamma H."""
+    import numpy as np
+
+    from studies.nadukuru.validate import CURVE_POINTS, figure_data
+    x = np.linspace(0.0, 0.008, 1000)
+    hist = {"wall_disp_over_H": x, "K": 0.4 - 20.0 * x, "segment_stress_active": np.array([6.0, 4.0, 2.0])}
+    d = figure_data(hist, 2.0, 0.008)
+    assert len(d["K"]) == CURVE_POINTS == 200
+    assert d["wall_disp_over_H"][0] == 0.0 and d["wall_disp_over_H"][-1] == 0.008
+    assert d["K"][-1] == 0.4 - 20.0 * 0.008
+    assert d["segment_stress_over_gamma_H"] == [1.0, 2.0, 3.0]
+
+
+def test_the_report_is_rewritten_with_its_figures_from_its_own_data(tmp_path):
+    """``rewrite``: nothing run, Figs. 4 and 5 drawn from ``figure_data``, and the
+    Markdown names the scorecard's totals of the JSON it wrote."""
+    from studies.nadukuru.validate import rewrite
+    data = {"wall_disp_over_H": [0.0, 0.004, 0.008], "K": [0.39, 0.25, 0.22],
+            "segment_stress_over_gamma_H": [0.1, 0.2, 0.3, 0.3, 0.2, 0.1], "segments_read_at_wall_disp_over_H": 0.008}
+    rep = _report("aaa", {m: _row(0.2, 0.4) | {"figure_data": data} for m in ("T", "RB", "RT", "mixed")})
+    (tmp_path / "nadukuru.json").write_text(json.dumps(rep))
+    out = rewrite(tmp_path)
+    assert (tmp_path / "nadukuru_fig4_rough.png").stat().st_size > 0
+    assert (tmp_path / "nadukuru_fig5_rough.png").stat().st_size > 0
+    t = out["scorecard"]["totals"]
+    md = (tmp_path / "nadukuru.md").read_text()
+    assert f"{sum(t.values())} statements of the paper: {t['matches']} matches" in md
+
+
+def test_displacement_fields_are_scored_by_their_order():
+    """The Fig. 3 row: T and RB more nearly parallel than RT on each wall matches; an RT
+    field as parallel as translation's misses; a wall without fields is not reproduced."""
+    from studies.nadukuru.case import REFERENCE
+    from studies.nadukuru.scorecard import scorecard_rows
+
+    def report(rt_smooth):
+        walls = {}
+        for wall, rt in (("rough", 0.6), ("smooth", rt_smooth)):
+            modes = {m: _row(0.2, 0.4) | {"displacement_field": {"resultant_length": r, "spread_deg": 10.0}}
+                     for m, r in (("T", 0.95), ("RB", 0.9), ("RT", rt))}
+            walls[wall] = _report("aaa", modes)["walls"]["rough"]
+        return {"walls": walls}
+
+    def row(rep):
+        return next(r for r in scorecard_rows(rep, REFERENCE) if r.statement.startswith("translation and rotation"))
+
+    assert row(report(0.7)).verdict == "matches"
+    assert row(report(0.97)).verdict == "misses"
+    assert row({"walls": {}}).verdict == "not reproduced"
