@@ -1,5 +1,5 @@
 """The biaxial study's own figures: the shear band in the specimen (Khosravi et al.
-Fig. 4, where the paper reads beta ~ 55 deg from the major principal plane)."""
+Fig. 3, where the paper reads beta ~ 55 deg from the major principal plane)."""
 
 from __future__ import annotations
 

@@ -48,7 +48,12 @@ def _material_rows(res: dict, ref: dict, test: dict | None) -> list[Row]:
         Row("biaxial test: axial strain at the critical state", "section 2, Figs. 2-4", f"{lo:g}-{hi:g}",
             "" if eps_cs is None else f"{eps_cs:.4f}", "the paper's range",
             number_verdict(eps_cs, 0.5 * (lo + hi), 0.5 * (hi - lo))),
-        Row("biaxial test: shear band angle", "section 2, Fig. 4", f"{bx['shear_band_angle_deg']:g} deg",
+        Row("biaxial test: no clear peak (peak and critical-state stresses coincide)", "section 2, Fig. 4, text",
+            "phi peak = phi at the critical state",
+            f"phi peak {d['phi_biaxial_peak']:.2f}, critical state {d['phi_biaxial_cs']:.2f} deg",
+            f"within +-{tol['phi_abs_tol_deg']:g} deg of each other (the friction-angle tolerance)",
+            number_verdict(d["phi_biaxial_peak"], d["phi_biaxial_cs"], tol["phi_abs_tol_deg"])),
+        Row("biaxial test: shear band angle", "section 2, Fig. 3", f"{bx['shear_band_angle_deg']:g} deg",
             "" if band is None else f"{band:g} deg", f"+-{tol['band_angle_abs_tol_deg']:g} deg",
             number_verdict(band, bx["shear_band_angle_deg"], tol["band_angle_abs_tol_deg"])),
     ]
@@ -61,10 +66,10 @@ def _at_rest_rows(res: dict, ref: dict) -> list[Row]:
     lower = (z > 0.5) & (z < 0.9)            # below mid-height, above the bottom corner's local arching
     above = bool(np.all(p[lower] > d["jaky_K0"] * z[lower])) if lower.any() else None
     return [
-        Row("at rest: close to Jaky in the upper part", "section 4, Fig. 10", "K ~ 1 - sin(phi)",
+        Row("at rest: close to Jaky in the upper part", "Fig. 13(a), text", "K ~ 1 - sin(phi)",
             f"K {d['K_at_rest_upper_half']:.3f} vs {d['jaky_K0']:.3f}", f"+-{100 * tol:g} %",
             number_verdict(d["K_at_rest_upper_half"], d["jaky_K0"], tol * d["jaky_K0"])),
-        Row("at rest: above Jaky in the lower part", "section 4, Fig. 10", "above Jaky",
+        Row("at rest: above Jaky in the lower part", "Fig. 13(a), text", "above Jaky",
             ", ".join(f"{zz:.2f} H: {pp / zz:.2f}" for zz, pp in zip(z[lower], p[lower])) + f" (Jaky {d['jaky_K0']:.2f})",
             "every reading 0.5-0.9 H", trend_verdict(above), note="K of each reading, sigma_h / (gamma z)"),
         Row("at rest: reduced at the bottom corner (PS0) by local arching", "section 4, Fig. 10", "reduced",
