@@ -55,8 +55,10 @@ def _validate(case, opts: SimpleNamespace) -> tuple[dict, str]:
     import sys
 
     from ..progress import progress
-    from .validate import validate_heap
+    from .validate import rewrite, validate_heap
 
+    if opts.report_only:
+        return rewrite(Path(opts.docs)), f"report: {Path(opts.docs) / 'heap.md'}"
     with progress(opts.quiet) as bar:
         rep = validate_heap(case, seeds=opts.seeds, out_dir=Path(opts.docs), root=Path(opts.out), progress=bar,
                             log=lambda msg: print(msg, file=sys.stderr, flush=True))
@@ -91,7 +93,9 @@ VALIDATE = Command(
              Option("--seeds", "the seeds, A..B or a list S1,S2 (1..3)", parse=_seeds, default=(1, 2, 3),
                     metavar="A..B|S1,S2"),
              Option("--docs", "where the report goes (docs/validation)", default="docs/validation", metavar="DIR",
-                    parse=output_folder("docs")), VTK))
+                    parse=output_folder("docs")),
+             Option("--report-only", "write heap.{json,md} in --docs again from the report there: the scorecard "
+                    "and text of today's code, nothing run", switch=True), VTK))
 
 STUDY = Study(name="heap", title="Nadukuru & Michalowski (2012) Fig. 1, heap over a subsiding base (3D DEM)",
               commands=(COMPARE, VALIDATE), reference_file=Path(__file__).with_name("reference.json"))

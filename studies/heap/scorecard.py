@@ -5,10 +5,32 @@ result (Fig. 1 itself is not in the text)."""
 
 from __future__ import annotations
 
+import math
+
 from ..scorecard import Row, trend_verdict
 
 
 def scorecard_rows(rep: dict, ref: dict) -> list[Row]:
+    return _dip_rows(rep) + [_wedge_row(rep)]
+
+
+def _wedge_row(rep: dict) -> Row:
+    """Fig. 1(a): a wedge-shaped (prismatic) heap, its flanks meeting at a ridge. Ours is a
+    wedge when its height H is that of the flanks' slope over half the base,
+    (B / 2) tan(slope), to within two of the largest grains (a ridge rounded by a grain or
+    two); each seed."""
+    B, d_max = rep["case"]["base_length"], rep["case"]["d_max"]
+    ridge = [0.5 * B * math.tan(math.radians(a)) for a in rep["slope_deg"]["per_seed"]]
+    h = rep["heap_height_m"]["per_seed"]
+    ours = ", ".join(f"{x:.2f} against {r:.2f} m" for x, r in zip(h, ridge))
+    return Row("the heap is wedge-shaped (prismatic)", "section on arching, Fig. 1(a)",
+               "a wedge: the flanks meet at a ridge", f"height {ours} (seeds: H against (B/2) tan slope)",
+               f"within {2 * d_max:.3f} m (two of the largest grains) on every seed",
+               trend_verdict(all(abs(x - r) <= 2 * d_max for x, r in zip(h, ridge))),
+               note="ours is flat-topped (heap.md, 'Shape')")
+
+
+def _dip_rows(rep: dict) -> list[Row]:
     after = rep["centre_over_peak_after"]["per_seed"]
     before = rep["centre_over_peak_before"]["per_seed"]
     per_seed = ", ".join(f"{a:.2f}" for a in after)

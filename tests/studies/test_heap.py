@@ -101,3 +101,23 @@ def test_a_heap_too_thin_for_flanks_says_why_instead_of_nan():
     for slope in (float("nan"), None):
         text = _compare_text({**res, "slope_deg": slope})
         assert "slope n/a" in text and "nan" not in text.lower()
+
+
+def test_a_heap_is_a_wedge_when_its_height_is_its_flanks_slope_over_half_the_base():
+    """Fig. 1(a)'s wedge: on a 4.8 m base a heap whose flanks stand at 24 deg is a wedge
+    at H = 2.4 tan 24 = 1.069 m; one a grain lower (0.07 m) still is, the committed
+    flat-topped 0.826 m is not (two of the 7.36 cm grains allowed)."""
+    import math
+
+    from studies.heap.scorecard import scorecard_rows
+
+    def row(h):
+        rep = {"case": {"base_length": 4.8, "d_max": 0.0736}, "slope_deg": {"per_seed": [24.0]},
+               "heap_height_m": {"per_seed": [h]}, "centre_over_peak_after": {"per_seed": [0.5]},
+               "centre_over_peak_before": {"per_seed": [0.8]}}
+        return next(r for r in scorecard_rows(rep, {}) if r.statement.startswith("the heap is wedge"))
+
+    wedge = 2.4 * math.tan(math.radians(24.0))
+    assert row(wedge).verdict == "matches"
+    assert row(wedge - 0.07).verdict == "matches"
+    assert row(0.826).verdict == "misses"
