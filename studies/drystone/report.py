@@ -123,7 +123,7 @@ BELOW_WHY = (
     "Where the mechanism forms: in these runs the DEM topples about the outer toe of the second course (the "
     "level the limit equilibrium finds; the pivot within a few mm of the outer face, the blocks' corner "
     "contact), so a pivot off the face does not explain the gap. Nor does the staircase bound: the limit "
-    "equilibrium's critical theta (18-20 deg) lies well inside the m = 0.83 bound (39.8 deg), and raising m "
+    "equilibrium's critical theta (17-19 deg) lies well inside the m = 0.83 bound (39.8 deg), and raising m "
     "to 5 leaves those heights unchanged. The likely reason is that the yield design cuts the moving part "
     "along a straight line at theta, whereas the discrete wall separates along its head and bed joints: a "
     "stepped line that can leave behind a part lighter (or with a shorter lever arm) than the straight cut, "

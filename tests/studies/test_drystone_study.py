@@ -82,3 +82,26 @@ def test_the_back_fit_widths_are_reference_2_3s(gamma, widths):
     got = [refit_base_width(replace(DrystoneCase(wall=w), unit_weight_kN_m3=gamma))
            for w in ("V1L", "V2L", "V3L", "V4L", "V5S")]
     assert got == pytest.approx(widths, abs=0.006)
+
+
+def test_case_a_overall_rows_read_each_wall_against_the_site():
+    """Section 5.1: the paper's DEM within 9 % of the site and above it except at V4L.
+    Heights 2 % above the site everywhere but 2 % below at V4L match both; 2 % above at
+    V4L too misses the second; 10 % above at V1L misses the first."""
+    import json as _json
+    from pathlib import Path as _Path
+
+    from studies.drystone.scorecard import scorecard_rows
+    ref = _json.loads(_Path("studies/drystone/reference.json").read_text())
+
+    def rows(factors):
+        walls = {w: {"critical_height_m": factors.get(w, 1.02) * v["measured_height_m"]["value"], "mode": "sliding"}
+                 for w, v in ref["walls"].items()}
+        got = scorecard_rows({"walls": walls}, ref)
+        return {r.statement: r.verdict for r in got if r.statement.startswith("case A: the DEM's")}
+
+    within, above = "case A: the DEM's critical heights within 9 % of the site's", \
+        "case A: the DEM's critical heights above the site's, except V4L"
+    assert rows({"V4L": 0.98}) == {within: "matches", above: "matches"}
+    assert rows({})[above] == "misses"
+    assert rows({"V1L": 1.10, "V4L": 0.98})[within] == "misses"
