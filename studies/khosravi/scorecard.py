@@ -101,7 +101,31 @@ def _active_rows(res: dict, ref: dict, test: dict | None) -> list[Row]:
             "" if moment is None else f"Rankine / DEM {moment:.2f}", "below 1",
             trend_verdict(None if moment is None else moment < 1.0),
             note="moments about the wall base from the active readings (trapezoid rule) and Ka gamma H^3 / 6"),
+        _arch_moment_row(res),
     ] + _profile_rows(res, ref)
+
+
+#: the non-linear arch-based theories of the paper's Fig. 13 (``theories.theories``)
+ARCH_THEORIES = ("handy", "paik-salgado", "khosravi")
+
+
+def _arch_moment_row(res: dict) -> Row:
+    """Section 4: "the overestimation of the non-linear arch-based theory is on the safe
+    side" for the overturning moment: each arch theory's active moment about the wall
+    base (its profile integrated, trapezoid rule) above the DEM's (``_dem_moment``)."""
+    dem = _dem_moment(res)
+    H, gamma = res["H_m"], res["gamma_N_per_m3"]
+    profiles = theories(res["dem"]["phi_biaxial"], gamma, H)
+    ratio = {}
+    for name in ARCH_THEORIES:
+        z, s = np.asarray(profiles[name].z), np.asarray(profiles[name].sigma_h)
+        ratio[name] = float(np.trapezoid(s * (H - z), z)) / (gamma * H ** 3) / dem if dem else None
+    known = [v for v in ratio.values() if v is not None]
+    return Row("the arch-based theories' overturning moment is on the safe side", "section 4",
+               "arch-based moment > DEM moment", ", ".join(f"{k} / DEM {v:.2f}" for k, v in ratio.items()
+                                                           if v is not None),
+               "each above 1", trend_verdict(None if len(known) < len(ratio) else all(v > 1.0 for v in known)),
+               note="moments about the wall base; the DEM's from the active readings as in the row above")
 
 
 #: Fig. 13(b): (theories, the part each fits or None, the part each overestimates or None;
@@ -154,8 +178,19 @@ def _profile_rows(res: dict, ref: dict) -> list[Row]:
 
 
 def _moment_ratio(res: dict) -> float | None:
-    """Rankine's active moment about the base over the DEM's, both per gamma H^3: the
-    readings integrated over depth (sigma / (gamma H) times the arm 1 - z/H)."""
+    """Rankine's active moment about the base over the DEM's (``_dem_moment``), both per
+    gamma H^3: Ka / 6."""
+    dem = _dem_moment(res)
+    if dem is None:
+        return None
+    phi = math.radians(res["dem"]["phi_biaxial"])
+    ka = math.tan(math.pi / 4 - phi / 2) ** 2
+    return (ka / 6.0) / dem if dem > 0 else None
+
+
+def _dem_moment(res: dict) -> float | None:
+    """The DEM's active moment about the wall base per gamma H^3: the readings integrated
+    over depth (sigma / (gamma H) times the arm 1 - z/H); None with fewer than two."""
     r = res["readings"]
     order = np.argsort(r["depth_over_H"])             # readings are listed bottom up
     z0, p0 = np.array(r["depth_over_H"])[order], np.array(r["active_over_gammaH"])[order]
@@ -163,10 +198,7 @@ def _moment_ratio(res: dict) -> float | None:
         return None
     # zero at the surface, the deepest reading held to the base
     z, p = np.concatenate([[0.0], z0, [1.0]]), np.concatenate([[0.0], p0, [p0[-1]]])
-    dem = float(np.trapezoid(p * (1.0 - z), z))
-    phi = math.radians(res["dem"]["phi_biaxial"])
-    ka = math.tan(math.pi / 4 - phi / 2) ** 2
-    return (ka / 6.0) / dem if dem > 0 else None
+    return float(np.trapezoid(p * (1.0 - z), z))
 
 
 def _height_rows(others: dict, ref: dict) -> list[Row]:

@@ -57,3 +57,24 @@ def test_profile_parts_read_rankine_exactly_on_readings_that_are_rankine():
         mean, rms = parts["rankine"][part]
         assert mean == pytest.approx(1.0, abs=1e-9) and rms == pytest.approx(0.0, abs=1e-9)
     assert parts["handy"]["upper"][1] > 0.01
+
+
+def test_overturning_moments_of_readings_on_rankines_line():
+    """The two overturning rows on DEM readings on Rankine's line (phi 20 deg), dense to
+    the base: the DEM moment is Rankine's, Ka / 6 per gamma H^3 (a triangle's load times
+    H/3), so Rankine / DEM is 1 to the trapezoid rule's error and the row reads 'not
+    below 1'; an arch theory's moment over it is its own thrust times its resultant's
+    height over Rankine's (the Profile's fields, not the integral)."""
+    from studies.khosravi.scorecard import _arch_moment_row, _moment_ratio
+    from studies.khosravi.theories import theories
+    H, gamma, phi = 0.3, 17000.0, 20.0
+    z = np.linspace(1.0, 0.0, 401)[:-1]
+    ka = np.tan(np.radians(45.0 - phi / 2)) ** 2
+    res = {"H_m": H, "gamma_N_per_m3": gamma, "dem": {"phi_biaxial": phi},
+           "readings": {"depth_over_H": z.tolist(), "active_over_gammaH": (ka * z).tolist()}}
+    assert _moment_ratio(res) == pytest.approx(1.0, rel=1e-4)
+    row = _arch_moment_row(res)
+    p = theories(phi, gamma, H)
+    for name in ("handy", "paik-salgado", "khosravi"):
+        want = p[name].thrust_h * p[name].height / (ka * gamma * H ** 3 / 6.0)
+        assert f"{name} / DEM {want:.2f}" in row.ours
