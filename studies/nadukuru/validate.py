@@ -356,7 +356,24 @@ def _write(report: dict, out_dir: Path) -> dict:
 
 
 #: supporting files of the report that statements of the scorecard read (``kind`` spread)
-SUPPORTING = ("nadukuru_rt_checks.json",)
+SUPPORTING = ("nadukuru_rt_checks.json", "nadukuru_fields_reduced.json")
+
+
+def fields_check(reports: dict, command: str) -> dict:
+    """The supporting file ``nadukuru_fields_reduced.json`` from reduced-size validation
+    reports (seed -> the path of its nadukuru.json): each seed's displacement-field
+    measure per wall and mode (``displacement_parallelism``), which the scorecard's
+    Fig. 3 row reads while the paper-scale report has none."""
+    runs, particles, gits = {}, set(), set()
+    for seed, path in sorted(reports.items()):
+        rep = with_current_names(json.loads(Path(path).read_text()))
+        gits.add(rep["git"])
+        runs[str(seed)] = {w: {m: r["displacement_field"] for m, r in e["modes"].items() if "displacement_field" in r}
+                           for w, e in rep["walls"].items()}
+        particles |= {e["specimen"]["particles"] for e in rep["walls"].values()}
+    return {"what": "Fig. 3's text at reduced size: how parallel the displacements of T, RB and RT are "
+                    "(studies.measures.displacement_parallelism), per seed, wall and mode",
+            "command": command, "particles": sorted(particles), "git": ", ".join(sorted(gits)), "runs": runs}
 
 
 def scorecard(report: dict, out_dir: Path) -> dict:

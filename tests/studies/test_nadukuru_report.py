@@ -89,3 +89,23 @@ def test_displacement_fields_are_scored_by_their_order():
     assert row(report(0.7)).verdict == "matches"
     assert row(report(0.97)).verdict == "misses"
     assert row({"walls": {}}).verdict == "not reproduced"
+
+
+def test_displacement_fields_fall_back_on_the_reduced_size_check_and_say_so():
+    """Without fields in the report the Fig. 3 row reads the supporting file, every seed
+    and wall: one specimen whose RT is as parallel as its T makes it a miss."""
+    from studies.nadukuru.case import REFERENCE
+    from studies.nadukuru.scorecard import scorecard_rows
+
+    def fields(rt):
+        return {m: {"resultant_length": r, "spread_deg": 10.0} for m, r in (("T", 0.98), ("RB", 0.98), ("RT", rt))}
+
+    def row(rt_last):
+        data = {"particles": [2800, 2900], "runs": {"1": {"rough": fields(0.96), "smooth": fields(0.96)},
+                                                     "2": {"rough": fields(0.96), "smooth": fields(rt_last)}}}
+        rep = {"walls": {"rough": _report("aaa", {"T": _row(0.2, 0.4)})["walls"]["rough"]}}
+        rows = scorecard_rows(rep, REFERENCE, {"nadukuru_fields_reduced.json": data})
+        return next(r for r in rows if r.statement.startswith("translation and rotation"))
+
+    assert row(0.96).verdict == "matches" and "reduced size (2,800-2,900 spheres)" in row(0.96).ours
+    assert row(0.99).verdict == "misses" and "3 of 4 specimens" in row(0.99).ours
