@@ -178,6 +178,24 @@ def _more_parallel(fields: dict, s: dict) -> bool:
     return all(fields[m]["resultant_length"] > fields[s["curved"]]["resultant_length"] for m in s["parallel"])
 
 
+def _peak_height(s: dict, rep: dict, ref: dict) -> Row:
+    """Where a mode's wall stress peaks: the centre of the segment with the largest
+    active stress (segments listed from the base up), as a fraction of H, on every run
+    named of a supporting file; within one segment of the paper's height."""
+    data = rep["_supporting"].get(s["file"])
+    if data is None or any(name not in data["runs"] for name in s["runs"]):
+        return _not_run(s, rep, ref)
+    heights = []
+    for name in s["runs"]:
+        seg = data["runs"][name]["segment_stress_over_rho_g_1mn_H"]
+        heights.append((max(range(len(seg)), key=seg.__getitem__) + 0.5) / len(seg))
+    step = 1.0 / len(data["runs"][s["runs"][0]]["segment_stress_over_rho_g_1mn_H"])
+    holds = all(abs(h - s["paper"]) <= step + 1e-12 for h in heights)
+    ours = f"largest segment stress at {', '.join(f'{h:.2f}' for h in heights)} H ({len(heights)} runs)"
+    return Row(s["statement"], s["where"], s["paper_text"], ours, s["tolerance"], trend_verdict(holds),
+               s.get("agreement", "independent"), s.get("note", ""))
+
+
 def _not_run(s: dict, rep: dict, ref: dict) -> Row:
     """A statement no run of the report tests."""
     tol = s.get("tolerance", "")
@@ -187,4 +205,5 @@ def _not_run(s: dict, rep: dict, ref: dict) -> Row:
 
 _ROWS = {"table": _table_value, "specimen": _specimen_value, "triaxial": _triaxial, "order": _ordering,
          "close": _close, "steady": _steady, "steady_before": _steady_before, "rough_below_smooth": _rough_below_smooth,
-         "spread": _spread, "parallel_fields": _parallel_fields, "not_run": _not_run}
+         "spread": _spread, "parallel_fields": _parallel_fields, "peak_height": _peak_height,
+         "not_run": _not_run}

@@ -109,3 +109,22 @@ def test_displacement_fields_fall_back_on_the_reduced_size_check_and_say_so():
 
     assert row(0.96).verdict == "matches" and "reduced size (2,800-2,900 spheres)" in row(0.96).ours
     assert row(0.99).verdict == "misses" and "3 of 4 specimens" in row(0.99).ours
+
+
+def test_the_rt_stress_peak_is_read_on_the_segment_with_the_largest_stress():
+    """Segments listed from the base up: a peak in the fifth of six is centred at
+    4.5 / 6 = 0.75 H (the paper's 3/4: matches); in the second, 0.25 H (misses)."""
+    from studies.nadukuru.case import REFERENCE
+    from studies.nadukuru.scorecard import scorecard_rows
+    s = next(x for x in REFERENCE["statements"] if x["kind"] == "peak_height")
+
+    def row(peak):
+        seg = [0.1] * 6
+        seg[peak] = 0.3
+        data = {"runs": {name: {"segment_stress_over_rho_g_1mn_H": seg} for name in s["runs"]}}
+        rep = {"walls": {"rough": _report("aaa", {"T": _row(0.2, 0.4)})["walls"]["rough"]}}
+        rows = scorecard_rows(rep, REFERENCE, {s["file"]: data})
+        return next(r for r in rows if r.statement == s["statement"])
+
+    assert row(4).verdict == "matches" and "0.75, 0.75" in row(4).ours
+    assert row(1).verdict == "misses"
