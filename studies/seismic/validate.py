@@ -303,7 +303,7 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
              "frequencies": {f"{f:g}": (_stored(r) if r is not None else "not run") for f, r in freqs.items()},
              "git": _started_at(folders, earlier if kept else None)}
     if main:
-        rep = block | {"trends_across_frequencies": across_frequencies(freqs), "versions": package_versions(),
+        rep = block | {"trends_across_frequencies": None, "versions": package_versions(),         # reread fills it
                        "reproducibility": reproducibility.describe(),
                        "source": "Sizkow & El Shamy (conference paper), trends of section 7 of "
                                  "docs/reference/seismic-sheetpile.md"}
@@ -321,7 +321,6 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
             rep["rolling_resistance"] = {"report_value": case.rolling_resistance, "runs": mu_r}
     else:
         rep = old
-        block["trends_across_frequencies"] = across_frequencies(freqs)
         rep.setdefault("other_resolutions", {})[case.resolution] = block
     reread(rep)
     rep["resolution_changes"] = resolution_changes(rep)
