@@ -138,3 +138,13 @@ def find_card_entry(paths, match) -> tuple[dict, Path] | None:
             if match(entry):
                 return entry, path
     return None
+
+
+def read_report(out_dir: str | Path, name: str) -> dict:
+    """The validation report ``name`` (e.g. heap.json) that ``out_dir`` holds, for a
+    rewrite without runs; a folder without it is the user's --docs, named in the error."""
+    path = Path(out_dir) / name
+    if not path.is_file():
+        from analytic.errors import InvalidParameter
+        raise InvalidParameter("--docs", str(out_dir), f"a folder holding {name}", "there is no report to rewrite")
+    return json.loads(path.read_text())

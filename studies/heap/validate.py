@@ -20,7 +20,7 @@ import reproducibility
 
 from ..runfolder import git_revision, package_versions
 from ..runner import finished_result, named_run, reusing_line
-from ..store import content_key
+from ..store import content_key, read_report
 from .compare import ASSUMPTIONS, compare_heap, slope_text
 from .case import HeapCase
 
@@ -85,7 +85,7 @@ def write_report(case: HeapCase, runs: list[dict], out_dir: Path) -> dict:
 def rewrite(out_dir: Path) -> dict:
     """heap.json and heap.md in ``out_dir`` written again from the report there, nothing
     run: today's scorecard and text (heap_base_stress.png needs the runs and is kept)."""
-    rep = json.loads((out_dir / "heap.json").read_text())
+    rep = read_report(out_dir, "heap.json")
     rep["scorecard"] = scorecard(rep)
     (out_dir / "heap.json").write_text(json.dumps(rep, indent=2) + "\n")
     (out_dir / "heap.md").write_text(report_markdown(rep, out_dir / "heap_discussion.md"))

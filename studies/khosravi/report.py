@@ -9,7 +9,7 @@ import shutil
 from pathlib import Path
 
 from studies.report import check, checks_markdown, within
-from studies.store import atomic_write, to_plain
+from studies.store import atomic_write, read_report, to_plain
 
 
 def _trend(d: dict) -> str:
@@ -179,11 +179,7 @@ def scorecard(report: dict, ref: dict) -> dict:
 def rewrite(out_dir: Path, reference: Path) -> dict:
     """khosravi.json and khosravi.md written again from the report ``out_dir`` holds: the
     scorecard and the text of today's code on the same runs (nothing is run)."""
-    path = out_dir / "khosravi.json"
-    if not path.is_file():
-        from analytic.errors import InvalidParameter
-        raise InvalidParameter("--docs", str(out_dir), "a folder holding khosravi.json", "there is no report to rewrite")
-    return _write(json.loads(path.read_text()), out_dir, json.loads(Path(reference).read_text()))
+    return _write(read_report(out_dir, "khosravi.json"), out_dir, json.loads(Path(reference).read_text()))
 
 
 def add_other_height(out_dir: Path, other: Path, reference: Path) -> dict:

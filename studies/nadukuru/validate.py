@@ -40,7 +40,7 @@ from ..granular.specimen import load_or_prepare
 from ..config import with_current_names
 from ..runfolder import package_versions, git_revision
 from ..runner import finish, finished_result, open_recording, open_run_folder, reusing_line
-from ..store import atomic_write, content_key, load_npz, npz_bytes, to_plain
+from ..store import atomic_write, content_key, load_npz, npz_bytes, read_report, to_plain
 
 #: the validation targets (reference.json "targets"): K and h/H against Tables 1-2
 TARGETS = json.loads((Path(__file__).with_name("reference.json")).read_text())["targets"]
@@ -338,7 +338,7 @@ def rewrite(out_dir: Path) -> dict:
     """``nadukuru.json`` and ``nadukuru.md`` in ``out_dir`` written again from the report
     there, nothing run: today's scorecard and text, and Figs. 4 and 5 of each wall whose
     report keeps their data (``figure_data``)."""
-    report = with_current_names(json.loads((out_dir / "nadukuru.json").read_text()))
+    report = with_current_names(read_report(out_dir, "nadukuru.json"))
     for wall_kind, entry in report["walls"].items():
         _draw_wall_figures(out_dir, wall_kind, entry)
     return _write(report, out_dir)

@@ -133,6 +133,9 @@ BAD = [
     ["calibrate", "cantilever", "--length", "5", "--thickness", "0.001"],
     ["sweep", "heap", "--vary", "particles=1..20000"],
     ["theory", "--plot", "/dev/full/p.png"],
+    ["validate", "khosravi", "--report-only", "--docs", "empty"],
+    ["validate", "nadukuru", "--report-only", "--docs", "empty"],
+    ["validate", "heap", "--report-only", "--docs", "empty"],
 ]
 
 
@@ -143,6 +146,7 @@ def workdir(tmp_path, monkeypatch):
     (tmp_path / "binary.toml").write_bytes(bytes(range(256)))
     (tmp_path / "bad.toml").write_text("seed = = 3\n")
     (tmp_path / "wall.toml").write_text((ROOT / "docs" / "examples" / "cantilever.toml").read_text())
+    (tmp_path / "empty").mkdir()                      # a --docs without the report to rewrite
     for study in ("khosravi", "nadukuru"):
         old = tmp_path / "runs" / study / "old"
         old.mkdir(parents=True)
