@@ -296,15 +296,15 @@ def _rate_check(case: NadukuruCase, spec, K_translation: float, wall_kind: str, 
     return {"speed_m_per_s": c.movement.speed, "K": K, "dK": K - K_translation, "wall_time_s": res["wall_time_s"]}
 
 
-def _draw_wall_figures(out_dir: Path, wall_kind: str, entry: dict) -> bool:
+def _draw_wall_figures(out_dir: Path, wall_kind: str, entry: dict) -> None:
     """Figs. 4 and 5 of the paper for one wall (K vs Delta/H, segment stresses) from its
-    report entry's ``figure_data``; False (nothing drawn) when a mode lacks it (a report
-    written before it was kept)."""
+    report entry's ``figure_data``; nothing is drawn when a mode lacks it (a report
+    written before it was kept: its committed figures stay)."""
     from .figures import plot_load_history, plot_segment_stress
 
     modes = entry["modes"]
     if not all("figure_data" in r for r in modes.values()):
-        return False
+        return
     data = {m: r["figure_data"] for m, r in modes.items()}
     curves = {m: (d["wall_disp_over_H"], d["K"]) for m, d in data.items()}
     paper_K = {m: paper_values(m, wall_kind)["K"] for m in modes if paper_values(m, wall_kind)["K"]}
@@ -316,7 +316,6 @@ def _draw_wall_figures(out_dir: Path, wall_kind: str, entry: dict) -> bool:
     at = next(iter(data.values()))["segments_read_at_wall_disp_over_H"]
     plot_segment_stress(segs, edges, out_dir / f"nadukuru_fig5_{wall_kind}.png",
                         title=f"Segment stress at Delta/H = {at:g}, {wall_kind} wall")
-    return True
 
 
 def _copy_fields(out_dir: Path, wall_kind: str, fields: dict) -> None:
