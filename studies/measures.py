@@ -103,3 +103,15 @@ def displacement_parallelism(start: np.ndarray, end: np.ndarray, *, axes=(0, 2),
     spread = float(np.degrees(np.sqrt(-2.0 * np.log(r)))) if r > 0.0 else float("inf")
     return {"moving_grains": int(moving.sum()), "resultant_length": r, "spread_deg": spread,
             "inclination_deg": float(np.degrees(np.arctan2(-mean[1], abs(mean[0]))))}
+
+
+def profile_nonlinearity(stress: np.ndarray) -> float:
+    """How far a wall's stress profile is from a straight line: the root-mean-square
+    residual of the least-squares line through the segment stresses (against the
+    segments' centre heights, segments of equal height), over the mean stress [-].
+    0 for any linear profile (a Rankine triangle or an at-rest trapezium); the order
+    of ``stress`` (top-down or bottom-up) does not change it."""
+    s = np.asarray(stress, float)
+    z = (np.arange(len(s)) + 0.5) / len(s)
+    fit = np.polyval(np.polyfit(z, s, 1), z)
+    return float(np.sqrt(np.mean((s - fit) ** 2)) / np.mean(s))

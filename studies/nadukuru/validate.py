@@ -181,7 +181,8 @@ def _move(case: NadukuruCase, spec, rf, frame_every: int, fields: str | None, pr
                      checkpoint_path=rf.file("checkpoints/movement.npz"))
     seconds = time.perf_counter() - tm
     rec.close()
-    atomic_write(rf.path / "history.npz", npz_bytes({k: np.asarray(hist[k]) for k in _HISTORY}))
+    atomic_write(rf.path / "history.npz", npz_bytes({k: np.asarray(hist[k]) for k in _HISTORY}
+                                                    | {"segment_stress_first": np.asarray(hist["segment_stress"][0])}))
     field = None
     if fields and "frame" in last:
         start = load_npz(first)["positions"]
@@ -253,12 +254,19 @@ def figure_data(hist: dict, gamma_H: float, wall_disp_over_H: float) -> dict:
     """What Figs. 4 and 5 draw of one movement, kept in the report so the figures can be
     drawn again without the runs (``rewrite``): the K curve at up to CURVE_POINTS evenly
     spaced readings (first and last kept), the active segment stresses over gamma H
-    [-] from the top segment down, and the movement they are read at."""
+    [-] from the top segment down, and the movement they are read at; the segment
+    stresses of the first reading (the at-rest state, averaged over the movement's
+    first ``record_every`` steps) likewise, with its Delta/H (a history written before
+    they were kept has neither)."""
     x, k = np.asarray(hist["wall_disp_over_H"]), np.asarray(hist["K"])
     keep = np.unique(np.linspace(0, len(x) - 1, min(len(x), CURVE_POINTS)).round().astype(int))
-    return {"wall_disp_over_H": x[keep].tolist(), "K": k[keep].tolist(),
+    data = {"wall_disp_over_H": x[keep].tolist(), "K": k[keep].tolist(),
             "segment_stress_over_gamma_H": (np.asarray(hist["segment_stress_active"])[::-1] / gamma_H).tolist(),
             "segments_read_at_wall_disp_over_H": wall_disp_over_H}
+    if "segment_stress_first" in hist:
+        data["first_segment_stress_over_gamma_H"] = (np.asarray(hist["segment_stress_first"])[::-1] / gamma_H).tolist()
+        data["first_reading_wall_disp_over_H"] = float(x[0])
+    return data
 
 
 def _validate_mode(case: NadukuruCase, spec, mode: str, wall_kind: str, phi: float, phi_src: str, gamma: float,
@@ -355,7 +363,7 @@ def _write(report: dict, out_dir: Path) -> dict:
 
 
 #: supporting files of the report that statements of the scorecard read (``kind`` spread)
-SUPPORTING = ("nadukuru_rt_checks.json", "nadukuru_fields_reduced.json")
+SUPPORTING = ("nadukuru_rt_checks.json", "nadukuru_fields_reduced.json", "nadukuru_profiles_reduced.json")
 
 
 def fields_check(reports: dict, command: str) -> dict:
@@ -372,6 +380,25 @@ def fields_check(reports: dict, command: str) -> dict:
         particles |= {e["specimen"]["particles"] for e in rep["walls"].values()}
     return {"what": "Fig. 3's text at reduced size: how parallel the displacements of T, RB and RT are "
                     "(studies.measures.displacement_parallelism), per seed, wall and mode",
+            "command": command, "particles": sorted(particles), "git": ", ".join(sorted(gits)), "runs": runs}
+
+
+def profiles_check(reports: dict, command: str) -> dict:
+    """The supporting file ``nadukuru_profiles_reduced.json`` from reduced-size
+    validation reports (seed -> the path of its nadukuru.json): per seed, wall and mode
+    the segment stresses of the first reading (at rest) and of the active state, which
+    the scorecard's linearity row reads while the paper-scale report has none."""
+    runs, particles, gits = {}, set(), set()
+    keys = ("first_segment_stress_over_gamma_H", "first_reading_wall_disp_over_H", "segment_stress_over_gamma_H",
+            "segments_read_at_wall_disp_over_H")
+    for seed, path in sorted(reports.items()):
+        rep = with_current_names(json.loads(Path(path).read_text()))
+        gits.add(rep["git"])
+        runs[str(seed)] = {w: {"modes": {m: {"figure_data": {k: r["figure_data"][k] for k in keys}}
+                                         for m, r in e["modes"].items()}} for w, e in rep["walls"].items()}
+        particles |= {e["specimen"]["particles"] for e in rep["walls"].values()}
+    return {"what": "the wall's stress profiles at reduced size: the segment stresses / gamma H (top down) of "
+                    "the first reading (at rest) and of the active state, per seed, wall and mode",
             "command": command, "particles": sorted(particles), "git": ", ".join(sorted(gits)), "runs": runs}
 
 
