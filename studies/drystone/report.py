@@ -331,7 +331,9 @@ def write_report(rep: dict, out_dir: Path) -> Path:
         discussion_b = out_dir / "drystone_caseb_discussion.md"
         if discussion_b.is_file():
             lines += [discussion_b.read_text().rstrip(), ""]
-    lines[2:2] = scorecard_markdown(rep["scorecard"], "Scorecard: every statement of Tables 3 and 4")
+    lines[2:2] = scorecard_markdown(rep["scorecard"], "Scorecard: every statement of Tables 3 and 4, the "
+                                                     "backfill's values (section 4, Table 1) and statements of "
+                                                     "section 5's text (Figs. 18 and 20)")
     path = out_dir / "drystone.md"
     atomic_write(path, "\n".join(lines).encode())
     return path
