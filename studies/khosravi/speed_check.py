@@ -34,15 +34,24 @@ def thrust_series(folder: Path) -> tuple[np.ndarray, np.ndarray]:
     return np.array(dis), np.array([total[d] for d in dis])
 
 
-def speed_record(folder: Path, ends: tuple[float, ...]) -> dict:
-    """One run: its wall speed, H, disks, CPU time, and at each end of ``ends`` it
-    reached the movement to 90 % of the drop and the thrust there over the at-rest one."""
-    result = json.loads((folder / "result.json").read_text())
-    res = result.get("result", result)
-    manifest = json.loads((folder / "manifest.json").read_text())
-    config = (folder / "config.toml").read_text()
-    speed = next(float(line.split("=")[1]) for line in config.splitlines() if line.startswith("wall_speed"))
-    dis, thrust = thrust_series(folder)
+def snapshot_series(folder: Path, case) -> tuple[np.ndarray, np.ndarray]:
+    """``thrust_series`` of a run stopped before its end, from its last translation
+    snapshot (``compare.CHECKPOINT``) restored with ``case`` (its KhosraviCase)."""
+    import pickle
+
+    from .compare import CHECKPOINT
+    from .run import KhosraviRun
+    run = KhosraviRun.restored(case, pickle.loads((folder / CHECKPOINT).read_bytes())["run"])
+    z, H = run.panel_depths(), run.backfill.H
+    records = [run.rest] + list(run.history)
+    dis = np.array([0.0] + [r.dis / H for r in run.history])
+    return dis, np.array([float(np.sum(r.sigma[z > 0])) / 1e3 for r in records])
+
+
+def drop_by_end(dis: np.ndarray, thrust: np.ndarray, ends: tuple[float, ...]) -> dict:
+    """At each end of ``ends`` the series reached (its last reading within 2 % of it):
+    the movement to 90 % of the drop over the readings up to that end, the thrust there
+    (mean of the last fifth of those readings) over the at-rest one, and the readings."""
     at = {}
     for end in ends:
         keep = dis <= end * (1 + 1e-9)
@@ -52,16 +61,35 @@ def speed_record(folder: Path, ends: tuple[float, ...]) -> dict:
         at[f"{end:g}"] = {"wall_disp_over_H_90": steady_displacement(d, F, 0.9),
                           "thrust_end_over_at_rest": float(F[-max(1, len(F) // 5):].mean() / F[0]),
                           "readings": int(keep.sum())}
+    return at
+
+
+def speed_record(folder: Path, ends: tuple[float, ...]) -> dict:
+    """One finished run: its wall speed, H, disks, CPU time, and ``drop_by_end``."""
+    result = json.loads((folder / "result.json").read_text())
+    res = result.get("result", result)
+    manifest = json.loads((folder / "manifest.json").read_text())
+    config = (folder / "config.toml").read_text()
+    speed = next(float(line.split("=")[1]) for line in config.splitlines() if line.startswith("wall_speed"))
+    dis, thrust = thrust_series(folder)
     return {"wall_speed_m_per_s": speed, "H_m": res.get("H_m"), "particles": res.get("particles"),
-            "seed": res.get("seed"), "movement_end_over_H": float(dis[-1]), "by_end": at,
+            "seed": res.get("seed"), "movement_end_over_H": float(dis[-1]), "by_end": drop_by_end(dis, thrust, ends),
             "cpu_time_s": manifest.get("cpu_time_s"), "wall_time_s": manifest.get("wall_time_s"),
             "git": manifest.get("git"), "run_folder": folder.name}
 
 
-def wall_speed_check(folders: list[Path], ends: tuple[float, ...] = (0.005, 0.01), command: str = "") -> dict:
+def wall_speed_check(folders: list[Path], ends: tuple[float, ...] = (0.005, 0.01), command: str = "",
+                     stopped: list[dict] = ()) -> dict:
     """The supporting record ``khosravi_wall_speed.json``: each run of ``folders`` by
-    ``speed_record``, slowest first."""
-    runs = sorted((speed_record(Path(f), ends) for f in folders), key=lambda r: r["wall_speed_m_per_s"])
+    ``speed_record``, and each of ``stopped`` (runs stopped before their end, read from
+    their last snapshot: a record with ``dis`` and ``thrust`` lists, whose other keys are
+    kept), slowest first."""
+    runs = [speed_record(Path(f), ends) for f in folders]
+    for s in stopped:
+        dis, thrust = np.asarray(s["dis"], float), np.asarray(s["thrust"], float)
+        runs.append({k: v for k, v in s.items() if k not in ("dis", "thrust")}
+                    | {"movement_end_over_H": float(dis[-1]), "by_end": drop_by_end(dis, thrust, ends)})
+    runs.sort(key=lambda r: r["wall_speed_m_per_s"])
     return {"what": "the movement to 90 % of the thrust's drop at several wall speeds, one specimen, measured to "
                     "common ends of the movement (studies.khosravi.speed_check)",
             "command": command, "ends_over_H": list(ends), "runs": runs}

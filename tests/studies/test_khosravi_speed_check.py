@@ -48,3 +48,14 @@ def test_ninety_percent_of_a_linear_drop_by_hand(tmp_path):
 def test_runs_are_listed_slowest_first(tmp_path):
     got = wall_speed_check([_folder(tmp_path, "fast", 0.004, 0.01), _folder(tmp_path, "slow", 0.001, 0.005)])
     assert [r["wall_speed_m_per_s"] for r in got["runs"]] == [0.001, 0.004]
+
+
+def test_a_run_stopped_early_is_read_from_its_snapshot_series(tmp_path):
+    """A run stopped at Dis/H 0.006 (read from its snapshot) has a record at 0.005, the
+    same as a finished folder's with the same readings, and none at 0.01."""
+    dis, thrust = thrust_series(_folder(tmp_path, "c", 0.002, 0.006))
+    got = wall_speed_check([], stopped=[{"wall_speed_m_per_s": 0.002, "dis": dis.tolist(), "thrust": thrust.tolist(),
+                                         "stopped_at": "snapshot"}])
+    rec = got["runs"][0]
+    assert rec["by_end"]["0.005"]["wall_disp_over_H_90"] == pytest.approx(0.001, abs=1e-12)
+    assert "0.01" not in rec["by_end"] and rec["stopped_at"] == "snapshot"
