@@ -291,8 +291,8 @@ def _linearity(s: dict, rep: dict, ref: dict) -> Row:
     tol = f"at rest <= {s['linear_below']:g}; active >= {s['nonlinear_above']:g}"
     walls = {w: rep["walls"][w]["modes"] for w in s["walls"] if w in rep["walls"]}
     source = ""
-    if not walls or not all("first_segment_stress_over_gamma_H" in r.get("figure_data", {})
-                            for modes in walls.values() for r in modes.values()):
+    if not walls or not all("first_segment_stress_over_gamma_H" in modes.get(m, {}).get("figure_data", {})
+                            for modes in walls.values() for m in s["nonlinear"]):
         data = rep["_supporting"].get(s["file"])
         if data is None:
             return _not_run(s, rep, ref)

@@ -52,3 +52,15 @@ def test_a_dem_value_between_the_papers_dem_and_the_physical_test_is_within_its_
     assert _rows(rep)[name].verdict == "within the paper's scatter"
     rep["walls"]["rough"]["modes"]["RB"]["resultant_height_over_H"] = 0.33
     assert _rows(rep)[name].verdict == "misses"
+
+
+def test_a_report_of_translation_only_reads_the_linearity_elsewhere():
+    """A validation of one wall and one mode keeps T's profiles but has no RT: the row
+    does not read it (without the supporting file: not reproduced)."""
+    rep = json.loads((DOCS / "nadukuru.json").read_text())
+    profile = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3]
+    t = rep["walls"]["rough"]["modes"]["T"] | {"figure_data": {"first_segment_stress_over_gamma_H": profile,
+                                                                "segment_stress_over_gamma_H": profile}}
+    rep["walls"] = {"rough": rep["walls"]["rough"] | {"modes": {"T": t}}}
+    row = next(r for r in _rows(rep).values() if r.statement.startswith("the wall stress near linear"))
+    assert row.verdict == "not reproduced"
