@@ -25,7 +25,8 @@ def thrust_series(folder: Path) -> tuple[np.ndarray, np.ndarray]:
     the panels below the surface, as the sum of their stresses [kPa] (the panels share
     one height, so the thrust in N/m is this times the panel height: ratios need no
     more)."""
-    rows = list(csv.DictReader(open(folder / "panels_vs_displacement.csv")))
+    with open(folder / "panels_vs_displacement.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
     dis = sorted({float(r["wall_disp_over_H"]) for r in rows})
     total = {d: 0.0 for d in dis}
     for r in rows:
