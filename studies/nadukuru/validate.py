@@ -366,40 +366,45 @@ def _write(report: dict, out_dir: Path) -> dict:
 SUPPORTING = ("nadukuru_rt_checks.json", "nadukuru_fields_reduced.json", "nadukuru_profiles_reduced.json")
 
 
+def _reduced_runs(reports: dict, pick) -> tuple[dict, list, str]:
+    """From reduced-size validation reports (seed -> the path of its nadukuru.json):
+    ``pick(entry)`` of each wall entry per seed, the particle counts and the gits."""
+    runs, particles, gits = {}, set(), set()
+    for seed, path in sorted(reports.items()):
+        rep = with_current_names(json.loads(Path(path).read_text()))
+        gits.add(rep["git"])
+        runs[str(seed)] = {w: pick(e) for w, e in rep["walls"].items()}
+        particles |= {e["specimen"]["particles"] for e in rep["walls"].values()}
+    return runs, sorted(particles), ", ".join(sorted(gits))
+
+
 def fields_check(reports: dict, command: str) -> dict:
     """The supporting file ``nadukuru_fields_reduced.json`` from reduced-size validation
     reports (seed -> the path of its nadukuru.json): each seed's displacement-field
     measure per wall and mode (``displacement_parallelism``), which the scorecard's
     Fig. 3 row reads while the paper-scale report has none."""
-    runs, particles, gits = {}, set(), set()
-    for seed, path in sorted(reports.items()):
-        rep = with_current_names(json.loads(Path(path).read_text()))
-        gits.add(rep["git"])
-        runs[str(seed)] = {w: {m: r["displacement_field"] for m, r in e["modes"].items() if "displacement_field" in r}
-                           for w, e in rep["walls"].items()}
-        particles |= {e["specimen"]["particles"] for e in rep["walls"].values()}
+    runs, particles, git = _reduced_runs(reports, lambda e: {m: r["displacement_field"] for m, r in e["modes"].items()
+                                                             if "displacement_field" in r})
     return {"what": "Fig. 3's text at reduced size: how parallel the displacements of T, RB and RT are "
                     "(studies.measures.displacement_parallelism), per seed, wall and mode",
-            "command": command, "particles": sorted(particles), "git": ", ".join(sorted(gits)), "runs": runs}
+            "command": command, "particles": particles, "git": git, "runs": runs}
+
+
+#: the profile data of a mode that ``profiles_check`` keeps
+_PROFILE_KEYS = ("first_segment_stress_over_gamma_H", "first_reading_wall_disp_over_H", "segment_stress_over_gamma_H",
+                 "segments_read_at_wall_disp_over_H")
 
 
 def profiles_check(reports: dict, command: str) -> dict:
     """The supporting file ``nadukuru_profiles_reduced.json`` from reduced-size
-    validation reports (seed -> the path of its nadukuru.json): per seed, wall and mode
-    the segment stresses of the first reading (at rest) and of the active state, which
-    the scorecard's linearity row reads while the paper-scale report has none."""
-    runs, particles, gits = {}, set(), set()
-    keys = ("first_segment_stress_over_gamma_H", "first_reading_wall_disp_over_H", "segment_stress_over_gamma_H",
-            "segments_read_at_wall_disp_over_H")
-    for seed, path in sorted(reports.items()):
-        rep = with_current_names(json.loads(Path(path).read_text()))
-        gits.add(rep["git"])
-        runs[str(seed)] = {w: {"modes": {m: {"figure_data": {k: r["figure_data"][k] for k in keys}}
-                                         for m, r in e["modes"].items()}} for w, e in rep["walls"].items()}
-        particles |= {e["specimen"]["particles"] for e in rep["walls"].values()}
+    validation reports (as ``fields_check``): per seed, wall and mode the segment
+    stresses of the first reading (at rest) and of the active state, which the
+    scorecard's linearity row reads while the paper-scale report has none."""
+    runs, particles, git = _reduced_runs(reports, lambda e: {"modes": {
+        m: {"figure_data": {k: r["figure_data"][k] for k in _PROFILE_KEYS}} for m, r in e["modes"].items()}})
     return {"what": "the wall's stress profiles at reduced size: the segment stresses / gamma H (top down) of "
                     "the first reading (at rest) and of the active state, per seed, wall and mode",
-            "command": command, "particles": sorted(particles), "git": ", ".join(sorted(gits)), "runs": runs}
+            "command": command, "particles": particles, "git": git, "runs": runs}
 
 
 def scorecard(report: dict, out_dir: Path) -> dict:
