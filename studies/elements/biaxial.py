@@ -149,6 +149,10 @@ class BiaxialResult:
                               flatter than 45 deg, which has no Mohr-Coulomb reading)
     solid_fraction_0:         after compaction; porosity = 1 - solid_fraction_0
     n_grains, dilatancy_deg:  grain count; mean dilatancy angle over the last third
+    dilatancy_peak_deg:       dilatancy angle at the peak: the mean rate over the axial
+                              strains within ``smooth_strain`` of eps_peak (the width the
+                              peak itself is read over), the angle a triaxial reports
+                              beside its peak friction (Bolton 1986)
     """
 
     phi_peak_deg: float
@@ -162,6 +166,7 @@ class BiaxialResult:
     dilatancy_deg: float
     confining: float
     friction: float
+    dilatancy_peak_deg: float = float("nan")
 
 
 class BiaxialTest:
@@ -382,18 +387,27 @@ def summarize(samples: list[BiaxialSample], marks, n_grains: int, case: BiaxialC
     # dilatancy: sin(psi) = -d eps_v / d gamma, gamma = eps_1 - eps_3 (2D, eps_v = eps_1 + eps_3)
     e3 = ev - eps
     gam = eps - e3
-    if np.sum(last) > 3:
-        dv = _slope(gam[last], ev[last])
-        psi = math.degrees(math.asin(float(np.clip(-dv, -1, 1))))
-    else:
-        psi = float("nan")
+    psi = _dilatancy_deg(gam[last], ev[last])
+    psi_peak = _dilatancy_deg(gam, ev, np.abs(eps - eps[ipk]) <= smooth_strain)
     window = band_window(marks)
     band = float("nan") if window is None else shear_band_angle(*window, cell=band_cell(case))
     return BiaxialResult(phi_peak_deg=float(phi[ipk]), eps_peak=float(eps[ipk]), phi_cs_deg=phi_cs,
                          eps_cs=eps_cs, band_angle_deg=band,
                          phi_from_band_deg=2.0 * (band - 45.0) if math.isfinite(band) and band >= 45.0 else float("nan"),
                          solid_fraction_0=samples[0].solid_fraction, n_grains=n_grains,
-                         dilatancy_deg=psi, confining=case.confining, friction=case.friction)
+                         dilatancy_deg=psi, confining=case.confining, friction=case.friction,
+                         dilatancy_peak_deg=psi_peak)
+
+
+def _dilatancy_deg(gamma: np.ndarray, eps_vol: np.ndarray, where: np.ndarray | None = None) -> float:
+    """Dilatancy angle [deg] from sin(psi) = -d eps_v / d gamma (2D: gamma = eps_1 - eps_3,
+    eps_v = eps_1 + eps_3, compression positive), the least-squares rate over the samples
+    ``where`` selects (all by default); NaN with fewer than four."""
+    if where is not None:
+        gamma, eps_vol = gamma[where], eps_vol[where]
+    if len(gamma) <= 3:
+        return float("nan")
+    return math.degrees(math.asin(float(np.clip(-_slope(gamma, eps_vol), -1, 1))))
 
 
 def band_window(marks) -> tuple[np.ndarray, np.ndarray] | None:

@@ -149,7 +149,8 @@ def biaxial_test(plan: GravelCalibration, friction_deg: float, seed: int, tick=N
                 marks.pop(0)
     r = test.result()
     return {"friction_deg": friction_deg, "seed": seed, "phi_peak_deg": r.phi_peak_deg, "eps_peak": r.eps_peak,
-            "phi_cs_deg": r.phi_cs_deg, "dilatancy_deg": r.dilatancy_deg, "porosity": 1 - r.solid_fraction_0,
+            "phi_cs_deg": r.phi_cs_deg, "dilatancy_deg": r.dilatancy_deg,
+            "dilatancy_peak_deg": r.dilatancy_peak_deg, "porosity": 1 - r.solid_fraction_0,
             "inner_porosity": inner, "n_grains": r.n_grains, "steps": test.sim.step_count,
             "inertial_number": case.inertial_number(), "wall_time_s": time.perf_counter() - t0,
             "cpu_time_s": time.process_time() - c0,
@@ -187,7 +188,8 @@ def biaxial_summary(tests: list[dict], target: float, target_critical: float = T
         ts = [t for t in tests if t["friction_deg"] == mu]
         rows.append({"friction_deg": mu, "seeds": [t["seed"] for t in ts],
                      **{k: float(np.mean([t[k] for t in ts])) for k in
-                        ("phi_peak_deg", "phi_cs_deg", "dilatancy_deg", "porosity", "inner_porosity")},
+                        ("phi_peak_deg", "phi_cs_deg", "dilatancy_deg", "dilatancy_peak_deg", "porosity",
+                         "inner_porosity")},
                      "phi_peak_sd_deg": float(np.std([t["phi_peak_deg"] for t in ts])),
                      "phi_cs_sd_deg": float(np.std([t["phi_cs_deg"] for t in ts]))})
     mus = [r["friction_deg"] for r in rows]

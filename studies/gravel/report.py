@@ -61,8 +61,8 @@ def _smooth(y, test: dict, strain: float = 0.01):
 def write_tables(folder, result: dict) -> None:
     """biaxial.csv and interface.csv (one row per test) in the run folder."""
     if "biaxial" in result:
-        keys = ["friction_deg", "seed", "phi_peak_deg", "eps_peak", "phi_cs_deg", "dilatancy_deg", "porosity",
-                "inner_porosity", "n_grains", "steps", "cpu_time_s"]
+        keys = ["friction_deg", "seed", "phi_peak_deg", "eps_peak", "phi_cs_deg", "dilatancy_deg",
+                "dilatancy_peak_deg", "porosity", "inner_porosity", "n_grains", "steps", "cpu_time_s"]
         folder.write_csv("biaxial.csv", keys, [[t[k] for k in keys] for t in result["biaxial"]["tests"]])
     if "interface" in result:
         keys = ["interface_friction_deg", "grain_friction_deg", "global_angle_deg", "normal_N_m",
@@ -107,12 +107,13 @@ def markdown(result: dict) -> str:
                   f"{b['choice'].get('rule', 'peak alone')}): peak {_f(b.get('phi_peak_at_chosen_deg'))} deg "
                   f"(target {t['phi_peak_deg']:g}), critical state {_f(b['phi_cs_at_chosen_deg'])} deg "
                   f"(about {t['phi_cs_deg']:g}, Colas's angle of repose).", "",
-                  "| local friction | seeds | peak (sd) | critical state (sd) | dilatancy "
-                  "| porosity (specimen / inner) |",
-                  "|---|---|---|---|---|---|"]
+                  "| local friction | seeds | peak (sd) | critical state (sd) | dilatancy at the peak "
+                  "| dilatancy, last third | porosity (specimen / inner) |",
+                  "|---|---|---|---|---|---|---|"]
         lines += [f"| {r['friction_deg']:g} | {','.join(map(str, r['seeds']))} | {r['phi_peak_deg']:.1f} "
                   f"({r['phi_peak_sd_deg']:.1f}) | {r['phi_cs_deg']:.1f} ({r['phi_cs_sd_deg']:.1f}) | "
-                  f"{r['dilatancy_deg']:.1f} | {r['porosity']:.3f} / {r['inner_porosity']:.3f} |" for r in b["rows"]]
+                  f"{_f(r.get('dilatancy_peak_deg'))} | {r['dilatancy_deg']:.1f} | "
+                  f"{r['porosity']:.3f} / {r['inner_porosity']:.3f} |" for r in b["rows"]]
         lines += ["", "![curves](gravel_calibration/biaxial.png)", "",
                   "![global vs local](gravel_calibration/biaxial_vs_friction.png)", ""]
     if i:
@@ -131,6 +132,23 @@ def markdown(result: dict) -> str:
     return "\n".join(lines + result.get("discussion", []) + [""])
 
 
+def slim(result: dict) -> dict:
+    """The calibration's record without the biaxial curves (the run folder keeps them)."""
+    out = json.loads(json.dumps(to_plain(result)))
+    for t in out.get("biaxial", {}).get("tests", []):
+        t.pop("curve", None)
+    return out
+
+
+def write_local_values(result_json: Path, out: Path) -> Path:
+    """``out`` (docs/validation/gravel_local_values.json): a ``calibrate gravel`` run
+    restricted to the case-B runs' local values (its run folder's result.json, with the
+    mode it ran in), slimmed as the calibration's record; the dry-stone scorecard's
+    backfill rows read it."""
+    atomic_write(out, (json.dumps(slim(json.loads(Path(result_json).read_text())), indent=2) + "\n").encode())
+    return out
+
+
 def write_docs(docs: Path, result: dict, folder) -> None:
     """gravel_calibration.md / .json (curves left out) and the figures beside them; the
     hand-written ``gravel_calibration_discussion.md`` of ``docs`` is appended."""
@@ -138,10 +156,7 @@ def write_docs(docs: Path, result: dict, folder) -> None:
     fig_dir.mkdir(parents=True, exist_ok=True)
     for name in result.get("figures", []):
         shutil.copy(folder.file(name), fig_dir / name)
-    slim = json.loads(json.dumps(to_plain(result)))
-    for t in slim.get("biaxial", {}).get("tests", []):
-        t.pop("curve", None)
-    atomic_write(docs / "gravel_calibration.json", (json.dumps(slim, indent=2) + "\n").encode())
+    atomic_write(docs / "gravel_calibration.json", (json.dumps(slim(result), indent=2) + "\n").encode())
     text = markdown(result)
     discussion = docs / "gravel_calibration_discussion.md"
     if discussion.is_file():    # written by hand; the command copies it in
