@@ -9,6 +9,7 @@ scorecard (``studies.scorecard``)."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -20,13 +21,21 @@ BACK_FIT_B = ("partly by construction: base widths back-fitted (reference 3.3, d
               "equilibrium fails at the measured height")
 #: the gravel calibration whose local frictions the case-B runs use (``BackfillSettings``)
 GRAVEL_CALIBRATION = Path(__file__).resolve().parents[2] / "docs" / "validation" / "gravel_calibration.json"
+#: the same tests at the runs' local values alone, on more seeds (``calibrate gravel`` restricted to them)
+GRAVEL_LOCAL_VALUES = GRAVEL_CALIBRATION.with_name("gravel_local_values.json")
 
 
-def scorecard_rows(rep: dict, ref: dict, calibration: dict | None = None) -> list[Row]:
+def scorecard_rows(rep: dict, ref: dict, calibration: dict | None = None,
+                   measured: dict | None = None) -> list[Row]:
     """``calibration``: gravel_calibration.json's record (None: the committed
-    ``GRAVEL_CALIBRATION``, when there; without one the backfill rows are not reproduced)."""
+    ``GRAVEL_CALIBRATION``, when there; without one the backfill rows are not reproduced).
+    ``measured``: the biaxial and interface tests at the runs' local values alone, in the
+    calibration's format (None: the committed ``GRAVEL_LOCAL_VALUES``, when there); the
+    backfill rows read it in place of the calibration's tests when it has the runs' values."""
     if calibration is None and GRAVEL_CALIBRATION.is_file():
         calibration = json.loads(GRAVEL_CALIBRATION.read_text())
+    if measured is None and GRAVEL_LOCAL_VALUES.is_file():
+        measured = json.loads(GRAVEL_LOCAL_VALUES.read_text())
     tol = ref["targets"]["critical_height_vs_measured_percent"] / 100.0
     rows = []
     for wall, w in ref["walls"].items():
@@ -38,7 +47,7 @@ def scorecard_rows(rep: dict, ref: dict, calibration: dict | None = None) -> lis
     rows.append(_case_b_overall(rep.get("case_b", {}).get("walls", {}), ref,
                                 rep.get("case_b", {}).get("settings", {}).get("layer_m")))
     rows.append(_blocks_without_force(rep.get("case_b", {}).get("walls", {}).get("C2S", {})))
-    rows += _backfill(rep.get("case_b", {}), ref, calibration)
+    rows += _backfill(rep.get("case_b", {}), ref, calibration, measured)
     return rows
 
 
@@ -102,18 +111,36 @@ def _calibrated(calibration: dict | None, case_b: dict) -> tuple[dict | None, di
     return bx, ir, "" if bx and ir else "the calibration has no test at the runs' local frictions"
 
 
-def _backfill(case_b: dict, ref: dict, calibration: dict | None) -> list[Row]:
+def _backfill(case_b: dict, ref: dict, calibration: dict | None, measured: dict | None = None) -> list[Row]:
     """The case-B backfill's values (S-OET 4.1-4.2, Table 1) against ours: the biaxial at
-    35 kPa and the interface shear of ``docs/validation/gravel_calibration.json`` at the
-    local frictions the runs used; the unit weight is rho g (1 - n) with the case's grain
+    35 kPa and the interface shear at the local frictions the runs used, from
+    ``measured`` (gravel_local_values.json) when it has them, else from the calibration's
+    tests (gravel_calibration.json); the unit weight is rho g (1 - n) with the case's grain
     density rho (set so that n = 0.22 gives 14.9 kN/m3) and the specimen's porosity."""
     bx, ir, why = _calibrated(calibration, case_b)
+    source, earlier = calibration, None
+    mbx, mir, _ = _calibrated(measured, case_b)
+    if mbx and mir:
+        source, earlier, bx, ir = measured, bx, mbx, mir
     seeds = ({} if bx is None else
-             {s: x for s in bx["seeds"] for x in calibration["biaxial"]["tests"]
+             {s: x for s in bx["seeds"] for x in source["biaxial"]["tests"]
               if x["seed"] == s and abs(x["friction_deg"] - bx["friction_deg"]) < 1e-9})
     placement = (case_b.get("local_values") or {}).get("ours", {}).get("placement_friction_deg")
-    return (_density_rows(ref, bx, seeds, placement, why) + _friction_rows(ref, calibration, bx, seeds, why)
+    rows = (_density_rows(ref, bx, seeds, placement, why) + _friction_rows(ref, calibration, bx, seeds, why)
             + [_interface_row(ref, calibration, ir, why)])
+    if earlier is None:
+        return rows
+    # each row: where ours comes from, and what the calibration's own tests read there
+    was = f"the calibration's {len(earlier['seeds'])} seeds, {_mode(calibration)} mode, git {calibration.get('git', '?')}"
+    earlier_ir = _calibrated(calibration, case_b)[1]
+    then = [f"{was}: porosity {earlier['porosity']:.3f}", f"{was}: {earlier['porosity']:.3f}",
+            f"{was}: {earlier['phi_peak_deg']:.1f} deg", f"{was}: {earlier['phi_cs_deg']:.1f} deg",
+            f"{was}: read no rate at the peak",
+            f"{was}: {earlier_ir['global_angle_deg']:.1f} deg" if earlier_ir else f"{was}: no test there"]
+    said = (f"{len(seeds)} seeds at the runs' local values alone, {_mode(source)} mode as the runs "
+            f"(gravel_local_values.json, git {source.get('git', '?')}); ")
+    return [dataclasses.replace(r, note=said + t + "; another realisation of the same grains"
+                                + (f"; {r.note}" if r.note else "")) for r, t in zip(rows, then)]
 
 
 def _num(statement: str, where: str, paper: str, value: float | None, text: str, tol_text: str, target: float,
@@ -121,6 +148,12 @@ def _num(statement: str, where: str, paper: str, value: float | None, text: str,
     """A backfill row: ``text`` and ``note`` when ours has a ``value``, else ``missing`` says why not."""
     return Row(f"case B backfill: {statement}", where, paper, "" if value is None else text, tol_text,
                number_verdict(value, target, tol), agreement, note if value is not None else missing)
+
+
+def _mode(record: dict) -> str:
+    """The reproducibility mode a record was made in (``reproducibility.describe``); a
+    record from before the portable mode existed has none and was native."""
+    return (record.get("reproducibility") or {}).get("mode", "native")
 
 
 def _per_seed(seeds: dict, key: str, fmt: str) -> str:
@@ -148,7 +181,7 @@ def _density_rows(ref: dict, bx: dict | None, seeds: dict, placement: float | No
              gamma0, tgam,
              f"partly by construction: the grain density ({rho:.0f} kg/m3) set so that n = {n0:g} gives "
              f"{gamma0:g} kN/m3",
-             "rho g (1 - n) at the calibration specimen's porosity (below); the case-B fill's own porosity was not "
+             "rho g (1 - n) at the biaxial specimen's porosity (below); the case-B fill's own porosity was not "
              "read (its weight is in each run's stage readings, not in the committed report)", why),
         _num("initial porosity n0 (the numerical sample's, and the fill's)", "section 4.1, Fig. 10; Table 1",
              f"about {n0:g}", n,
@@ -168,12 +201,11 @@ def _friction_rows(ref: dict, calibration: dict | None, bx: dict | None, seeds: 
     phi0, cs0, psi0 = b["phi_deg"]["value"], b["repose_deg"]["value"], b["dilatancy_deg"]["value"]
     grain = f"partly by construction: the grain friction calibrated to the peak {phi0:g} and critical state {cs0:g} deg"
     phi, cs = (None, None) if bx is None else (bx["phi_peak_deg"], bx["phi_cs_deg"])
-    psi = None if bx is None else bx.get("dilatancy_peak_deg")     # the calibration reads none at the peak (yet)
+    psi = None if bx is None else bx.get("dilatancy_peak_deg")     # a calibration from before the peak reading: none
     why_psi = why if bx is None else (
-        f"Colas's angle goes with the peak angle (both from the triaxial tests, at 35 kPa); the calibration reads "
-        f"the dilatancy only over the last third of the strain ({bx['dilatancy_deg']:.1f} deg there), past the "
-        f"peak: a biaxial at the runs' grain friction that keeps its volumetric curve and reads the rate at the "
-        f"peak would give it")
+        f"Colas's angle goes with the peak angle (both from the triaxial tests, at 35 kPa); this calibration "
+        f"predates the reading at the peak and gives the dilatancy only over the last third of the strain "
+        f"({bx['dilatancy_deg']:.1f} deg there)")
     return [
         _num("internal (peak) friction angle at 35 kPa", "section 4.1; Table 1", f"{phi0:g} deg", phi,
              "" if phi is None else
@@ -189,7 +221,10 @@ def _friction_rows(ref: dict, calibration: dict | None, bx: dict | None, seeds: 
              f"{_per_seed(seeds, 'phi_cs_deg', '.1f')})",
              f"+-{tphi:g} deg (reading of 'about': reference.json)", cs0, tphi, grain, "", why),
         _num("dilatancy angle at 35 kPa (at the peak)", "section 4.1", f"{psi0:g} deg", psi,
-             "" if psi is None else f"{psi:.1f} deg", f"+-{tphi:g} deg", psi0, tphi, "independent", "", why_psi),
+             "" if psi is None else
+             f"{psi:.1f} deg (biaxial, the rate over the strains the peak is smoothed over, seed mean; seeds "
+             f"{_per_seed(seeds, 'dilatancy_peak_deg', '.1f')}; over the last third {bx['dilatancy_deg']:.1f} deg)",
+             f"+-{tphi:g} deg", psi0, tphi, "independent", "", why_psi),
     ]
 
 
