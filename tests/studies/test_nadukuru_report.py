@@ -131,3 +131,13 @@ def test_the_rt_stress_peak_is_read_on_the_segment_with_the_largest_stress():
 
     assert row(4).verdict == "matches" and "0.75, 0.75" in row(4).ours
     assert row(1).verdict == "misses"
+
+
+def test_a_full_rerun_does_not_add_the_replaced_reports_time(tmp_path):
+    modes = ("T", "RB", "RT", "mixed")
+    old = _keep_other_walls(_report("aaa", {m: _row(0.2, 0.4) for m in modes}), tmp_path / "none.json")
+    (tmp_path / "nadukuru.json").write_text(json.dumps(old))
+    new = _keep_other_walls(_report("bbb", {m: _row(0.21, 0.41) for m in modes}), tmp_path / "nadukuru.json")
+    assert new["wall_time_s"] == 100.0          # nothing of the old report is kept, nor its time
+    # the header gives the runs' own times: four movements of 60 s each
+    assert "wall movements 4.0 min" in markdown(new)
