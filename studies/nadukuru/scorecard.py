@@ -299,6 +299,10 @@ def _linearity(s: dict, rep: dict, ref: dict) -> Row:
         walls = {f"{w} seed {seed}": entry["modes"] for seed, run in data["runs"].items()
                  for w, entry in run.items() if w in s["walls"]}
         source = f" (reduced size, {min(data['particles']):,}-{max(data['particles']):,} spheres; paper scale: not run)"
+    note = s.get("note", "") + ("" if not source else
+                                ". At reduced size a segment is about four grains tall (grains x2.28), so a "
+                                "profile's own scatter enters the measure; a paper-scale validation keeps its "
+                                "profiles (figure_data) and the row then reads those")
     shown, holds = [], []
     for name, modes in walls.items():
         rest = profile_nonlinearity(modes[s["nonlinear"][0]]["figure_data"]["first_segment_stress_over_gamma_H"])
@@ -307,7 +311,7 @@ def _linearity(s: dict, rep: dict, ref: dict) -> Row:
         holds.append(rest <= s["linear_below"] and all(v >= s["nonlinear_above"] for v in active.values()))
         shown.append(f"{name}: at rest {rest:.2f}, " + ", ".join(f"{m} {v:.2f}" for m, v in active.items()))
     return Row(s["statement"], s["where"], s["paper_text"], "; ".join(shown) + source, tol,
-               trend_verdict(all(holds)), s.get("agreement", "independent"), s.get("note", ""))
+               trend_verdict(all(holds)), s.get("agreement", "independent"), note)
 
 
 def _not_run(s: dict, rep: dict, ref: dict) -> Row:
