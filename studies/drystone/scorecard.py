@@ -118,10 +118,10 @@ def _backfill(case_b: dict, ref: dict, calibration: dict | None, measured: dict 
     tests (gravel_calibration.json); the unit weight is rho g (1 - n) with the case's grain
     density rho (set so that n = 0.22 gives 14.9 kN/m3) and the specimen's porosity."""
     bx, ir, why = _calibrated(calibration, case_b)
-    source, earlier = calibration, None
+    source, earlier, earlier_ir = calibration, None, None
     mbx, mir, _ = _calibrated(measured, case_b)
     if mbx and mir:
-        source, earlier, bx, ir = measured, bx, mbx, mir
+        source, earlier, earlier_ir, bx, ir = measured, bx, ir, mbx, mir
     seeds = ({} if bx is None else
              {s: x for s in bx["seeds"] for x in source["biaxial"]["tests"]
               if x["seed"] == s and abs(x["friction_deg"] - bx["friction_deg"]) < 1e-9})
@@ -130,13 +130,14 @@ def _backfill(case_b: dict, ref: dict, calibration: dict | None, measured: dict 
             + [_interface_row(ref, calibration, ir, why)])
     if earlier is None:
         return rows
-    # each row: where ours comes from, and what the calibration's own tests read there
+    # each row (unit weight, porosity, peak, critical state, dilatancy, interface, in that
+    # order): where ours comes from, and what the calibration's own tests read there
     was = f"the calibration's {len(earlier['seeds'])} seeds, {_mode(calibration)} mode, git {calibration.get('git', '?')}"
-    earlier_ir = _calibrated(calibration, case_b)[1]
     then = [f"{was}: porosity {earlier['porosity']:.3f}", f"{was}: {earlier['porosity']:.3f}",
             f"{was}: {earlier['phi_peak_deg']:.1f} deg", f"{was}: {earlier['phi_cs_deg']:.1f} deg",
             f"{was}: read no rate at the peak",
             f"{was}: {earlier_ir['global_angle_deg']:.1f} deg" if earlier_ir else f"{was}: no test there"]
+    assert len(then) == len(rows)
     said = (f"{len(seeds)} seeds at the runs' local values alone, {_mode(source)} mode as the runs "
             f"(gravel_local_values.json, git {source.get('git', '?')}); ")
     return [dataclasses.replace(r, note=said + t + "; another realisation of the same grains"
