@@ -460,7 +460,7 @@ def _cmd_study(cmd, args) -> int:
                            out=args.out, quiet=args.quiet)
     _check_run_options(opts)
     cmd.check_fits(case)
-    if cmd.busy_note:
+    if cmd.busy_note and not getattr(opts, "report_only", False):     # a rewrite runs no DEM
         _note_if_busy()
     with cmd.envelope(case, _setting_sources(cmd, args), opts):
         result, where = cmd.run(case, opts)
