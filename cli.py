@@ -648,6 +648,9 @@ def _add_bench(sub):
     d.add_argument("--liggghts-ranks", type=int, choices=[1, 2], default=None,
                    help="MPI processes for LIGGGHTS (default: as many as --threads, core for core)")
     d.add_argument("--no-liggghts", action="store_true", help="time dem3d only")
+    d.add_argument("--direct-sums", action="store_true",
+                   help="dem3d adds each pair's force on its second sphere in the contact pass "
+                        "(Simulation direct_sums; other bits, off by default)")
     d.add_argument("--pairs", type=_count("pairs"), default=3,
                    help="interleaved pairs, dem3d then LIGGGHTS each (3): medians and min-max")
     d.add_argument("--scaling", action="store_true",
@@ -669,7 +672,7 @@ def _cmd_bench_dem3d(args) -> int:
     from studies.bench import bench_dem3d, scaling
 
     result = bench_dem3d(args.n, args.steps, args.threads, liggghts=not args.no_liggghts, ranks=args.liggghts_ranks,
-                         pairs=args.pairs)
+                         pairs=args.pairs, direct_sums=args.direct_sums)
     rows = scaling(max(1, args.steps // 10), args.threads) if args.scaling else None
     if args.json:
         if rows is not None:
@@ -677,8 +680,9 @@ def _cmd_bench_dem3d(args) -> int:
         print(json.dumps(result, indent=2))
         return 0
     spread = result["spread"]
-    print(f"dem3d benchmark: {result['n']} spheres x {result['steps']} steps, dem3d on {result['threads']} thread(s), "
-          f"{result['pairs']} interleaved run(s) each; median (min-max)")
+    print(f"dem3d benchmark: {result['n']} spheres x {result['steps']} steps, dem3d on {result['threads']} thread(s)"
+          f"{' with direct sums' if result['direct_sums'] else ''}, {result['pairs']} interleaved run(s) each; "
+          f"median (min-max)")
 
     def line(name: str, key: str, cpu: str, extra: str = "") -> None:
         s, c = spread[key], spread[cpu]

@@ -17,7 +17,9 @@ the warm-up (compile or cache load, 50 coupled steps) is excluded. The figure is
 particle-steps (main model and columns) per CPU-second of the stepping (process time:
 what a shared machine's wall clock inflates is left out). Each run also prints a
 checksum of the final positions and velocities: equal checksums say the two codes
-computed the same bits. Prints one JSON line per run and a summary (medians, min-max,
+computed the same bits (``--tree-direct-sums``: this tree's runs add the pair forces on
+the second sphere in the contact pass, ``Simulation.direct_sums``; other bits, so the
+checksums differ in their last digits). Prints one JSON line per run and a summary (medians, min-max,
 the ratio of each pair); ``--out FILE`` writes all of it as JSON.
 """
 
@@ -44,10 +46,13 @@ try:
 except ImportError:                     # a checkout from before the study layout
     from studies.seismic import model as M
 from dem3d.freefield import step_coupled, column_free_field
-steps, cache = int(sys.argv[1]), Path(sys.argv[2])
+steps, cache, direct = int(sys.argv[1]), Path(sys.argv[2]), sys.argv[3] == "direct"
 case = SeismicCase()
 p = prepare(case, cache)
 main, columns, bnds, _ = coupled(case, p)
+if direct:
+    for sim in (main, *columns):
+        sim.direct_sums = True
 edges = [M.lateral_edges(case, case.front_height), M.lateral_edges(case, case.retained_height)]
 area = case.column_length * case.d_mean * case.width
 free_field = lambda: [column_free_field(c, e, area) for c, e in zip(columns, edges)]
@@ -65,9 +70,10 @@ print(json.dumps({"particles": n, "main_spheres": main.n_spheres, "steps": steps
 """
 
 
-def run(root: Path, steps: int, cache: Path) -> dict:
+def run(root: Path, steps: int, cache: Path, direct: bool = False) -> dict:
     env = dict(os.environ, PYTHONPATH=str(root), NUMBA_CACHE_DIR=str(root / ".numba_cache"), NUMBA_NUM_THREADS="1")
-    out = subprocess.run([sys.executable, "-c", CHILD, str(steps), str(cache)], cwd=root, env=env,
+    out = subprocess.run([sys.executable, "-c", CHILD, str(steps), str(cache), "direct" if direct else "rows"],
+                         cwd=root, env=env,
                          capture_output=True, text=True, check=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -84,11 +90,14 @@ def main() -> None:
     ap.add_argument("--cache", type=Path, default=HERE / "runs" / "seismic" / "cache",
                     help="the seismic static-state cache (runs/seismic/cache)")
     ap.add_argument("--out", type=Path, help="write every run and the summary to this JSON file")
+    ap.add_argument("--tree-direct-sums", action="store_true",
+                    help="this tree's runs with Simulation.direct_sums (other bits: the checksums then differ)")
     args = ap.parse_args()
     runs = []
     for k in range(args.pairs):
         for label, root in (("main", args.main), ("tree", HERE)):
-            res = run(root, args.steps, args.cache.resolve()) | {"code": label, "pair": k}
+            direct = label == "tree" and args.tree_direct_sums
+            res = run(root, args.steps, args.cache.resolve(), direct) | {"code": label, "pair": k, "direct_sums": direct}
             print(json.dumps(res), flush=True)
             runs.append(res)
     rate = {c: [r["particle_steps_per_cpu_s"] for r in runs if r["code"] == c] for c in ("main", "tree")}
@@ -97,7 +106,8 @@ def main() -> None:
                "same_bits": len({tuple(r["checksum"]) for r in runs}) == 1}
     print(json.dumps(summary))
     if args.out:
-        args.out.write_text(json.dumps({"steps": args.steps, "pairs": args.pairs, "runs": runs,
+        args.out.write_text(json.dumps({"steps": args.steps, "pairs": args.pairs,
+                                        "tree_direct_sums": args.tree_direct_sums, "runs": runs,
                                         "summary": summary}, indent=1) + "\n")
 
 

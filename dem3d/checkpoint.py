@@ -28,7 +28,7 @@ def to_arrays(sim) -> dict[str, np.ndarray]:
     for prefix, rec in (("spheres", sim.spheres), ("clumps", sim.clumps), ("pairs", sim.pairs),
                         ("wall_pairs", sim.wall_pairs), ("panels", sim.walls.panels)):
         for name, arr in rec._asdict().items():
-            if prefix in used and name not in ("start", "tstart"):
+            if prefix in used and name not in ("start", "tstart", "slab_start", "slab_sphere"):
                 arr = arr[:used[prefix]]          # drop the spare capacity
             out[f"{prefix}.{name}"] = np.array(arr, copy=True)
     for name, value in sim.params._asdict().items():
@@ -50,7 +50,7 @@ def to_arrays(sim) -> dict[str, np.ndarray]:
     scalars = {"time": sim.time, "step": sim.step_count, "dt": sim.dt, "skin": sim.skin,
                "density": sim.density, "dt_critical": sim.dt_critical, "n_rebuilds": sim.n_rebuilds,
                "need_rebuild": sim._need_rebuild, "spheres_per_thread": sim.spheres_per_thread,
-               "sort_every": sim.sort_every}
+               "sort_every": sim.sort_every, "direct_sums": sim.direct_sums}
     for name, value in scalars.items():
         out[name] = np.array(value)
     out["gravity"] = sim.gravity.copy()
@@ -88,6 +88,8 @@ def from_arrays(cls, arrays, walls: Sequence[Wall] = ()):
                      if "attached.spheres" in a else None)
     sim.clumps = Clumps(**{f: np.ascontiguousarray(a[f"clumps.{f}"]) for f in Clumps._fields})
     n = sim.spheres.x.shape[0]
+    a.setdefault("pairs.slab_start", np.zeros(1, np.int64))          # states saved before the slabs
+    a.setdefault("pairs.slab_sphere", np.zeros(0, np.int64))
     sim._pair_bufs = [Pairs(**{f: np.ascontiguousarray(a[f"pairs.{f}"]) for f in Pairs._fields}),
                        empty_pairs(n, 0)]
     sim._fit_history()
@@ -121,6 +123,7 @@ def from_arrays(cls, arrays, walls: Sequence[Wall] = ()):
     sim._need_rebuild = bool(a["need_rebuild"])
     sim.spheres_per_thread = int(a["spheres_per_thread"])
     sim.sort_every = int(a["sort_every"])
+    sim.direct_sums = bool(a["direct_sums"]) if "direct_sums" in a else False
     sim.gravity = a["gravity"].astype(float).copy()
     per = a["periodic"]
     sim.periodic = None if per[0] < 0 else Periodic(int(per[0]), float(per[1]), float(per[2]))

@@ -19,6 +19,9 @@ bitwise independent of the thread count and of the scheduler):
                        sphere (a sequential read), evaluates i's wall-panel
                        contacts (storing each force per wall pair for the panel loads), then
                        integrates i if it is a free sphere (leapfrog, PFC local damping).
+   With ``Simulation.direct_sums``, pass 1 adds the force on j to j itself, slab by slab
+   of cell layers (even slabs in parallel, then odd ones: the slabs of one phase never
+   write the same sphere), and pass 2 has nothing to gather (``pair_forces``, ``direct``).
 3. ``move_clumps``     prange over clumps: sums its members' forces and torques, integrates
                        the rigid body (quaternion), places the members.
 4. ``panel_loads``     serial: sums the wall-pair forces per panel (force on the panel and
@@ -281,7 +284,7 @@ def panel_closest_point(px, py, pz, pan, p):
 # --------------------------------------------------------------------------------------
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
-def pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling=None):
+def pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling=None, direct=None):
     """Pass 1 (module docstring): evaluate every half-list pair once. The force and torque
     on the first sphere i are summed into sph.f / sph.t; those on the second sphere j are
     written to the pair's slot in the transposed order (``prs.pf``), which pass 2 adds.
@@ -295,7 +298,16 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling=None):
     columns 3-5): ``rolling_moment`` on both spheres of every touching pair with
     mu_roll > 0, from the normal force just computed, in the same visit of the pair (a
     second pass over the list cost ~70 % of this one); a pair that stops touching
-    forgets its moment with its tangential history."""
+    forgets its moment with its tangential history.
+    direct: None (the rows above) or True: the force and torque on j are added straight
+    to sph.f[j] / sph.t[j] as the pair is visited, and pass 2 gathers nothing (``prs.pf``
+    then holds each pair's force on j and normal force by pair k, for the measurements).
+    The spheres are visited by slab of cell layers (``prs.slab_start`` /
+    ``prs.slab_sphere``; a pair's j lies in i's slab or the next one): the even slabs in
+    parallel, then the odd ones, each slab in a fixed order, so every sum is taken in an
+    order that does not depend on the thread count. The same forces to rounding, other
+    bits; passes 1 and 2 ~0.8 of the rows' time on the seismic model
+    (benchmarks/seismic_pair_pass.py, ``direct_j``)."""
     x = sph.x
     v = sph.v
     w = sph.w
@@ -312,96 +324,124 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling=None):
     mu = prm.mu
     need_m = prm.damping == RATIO
     need_r = prm.law == HERTZ_MINDLIN
-    for i in prange(x.shape[0]):
-        ri = r[i]
-        xi = x[i, 0]
-        yi = x[i, 1]
-        zi = x[i, 2]
-        vix = v[i, 0]      # hoisted: numba cannot prove the stores below do not alias them
-        viy = v[i, 1]
-        viz = v[i, 2]
-        wix = w[i, 0]
-        wiy = w[i, 1]
-        wiz = w[i, 2]
-        imi = inv_m[i]
-        sfx = 0.0
-        sfy = 0.0
-        sfz = 0.0
-        stx = 0.0
-        sty = 0.0
-        stz = 0.0
-        rtx = 0.0          # the rolling moments, summed apart as the separate pass did
-        rty = 0.0
-        rtz = 0.0
-        for k in range(prs.start[i], prs.start[i + 1]):
-            j = nbr[k]
-            dx = x[j, 0] - xi
-            dy = x[j, 1] - yi
-            dz = x[j, 2] - zi
-            if pax == 0:
-                dx = _min_image(dx, plen)
-            elif pax == 1:
-                dy = _min_image(dy, plen)
-            elif pax == 2:
-                dz = _min_image(dz, plen)
-            rs = ri + r[j]
-            d2 = dx * dx + dy * dy + dz * dz
-            if d2 >= rs * rs:
-                if active[k]:           # contact just opened: forget history and force
-                    active[k] = 0
-                    ut[k, 0] = 0.0
-                    ut[k, 1] = 0.0
-                    ut[k, 2] = 0.0
-                    if rolling is not None:
-                        ut[k, 3] = 0.0
-                        ut[k, 4] = 0.0
-                        ut[k, 5] = 0.0
-                    kt_ = tpos[k]
-                    for c in range(8):
-                        pf[kt_, c] = 0.0
-                continue
-            d = math.sqrt(d2)
-            inv_d = 1.0 / d
-            nx = dx * inv_d
-            ny = dy * inv_d
-            nz = dz * inv_d
-            delta = rs - d
-            h = 0.5 * delta
-            ai = ri - h          # lever arms to the centre of the overlap region
-            aj = r[j] - h
-            # contact-point velocity of i relative to j: v_i - v_j + (a_i w_i + a_j w_j) x n
-            wx = ai * wix + aj * w[j, 0]
-            wy = ai * wiy + aj * w[j, 1]
-            wz = ai * wiz + aj * w[j, 2]
-            vrx = vix - v[j, 0] + (wy * nz - wz * ny)
-            vry = viy - v[j, 1] + (wz * nx - wx * nz)
-            vrz = viz - v[j, 2] + (wx * ny - wy * nx)
-            m_eff = 0.0
-            if need_m:
-                s = imi + inv_m[j]
-                m_eff = 1.0 / s if s > 0.0 else 0.0
-            r_eff = ri * r[j] / rs if need_r else 0.0
-            if mtab is None:
-                fx, fy, fz, fn, ux, uy, uz = contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz,
-                                                         m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
-            else:
-                pp = pair_params(mtab, mat[i], mat[j])
-                fx, fy, fz, fn, ux, uy, uz = contact_law(pp, pp.mu, delta, nx, ny, nz, vrx, vry, vrz,
-                                                         m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
-            ut[k, 0] = ux
-            ut[k, 1] = uy
-            ut[k, 2] = uz
-            active[k] = 1
-            # torque on i: (a_i n) x F; on j: (-a_j n) x (-F) = a_j (n x F)
-            cx = ny * fz - nz * fy
-            cy = nz * fx - nx * fz
-            cz = nx * fy - ny * fx
-            sfx += fx
-            sfy += fy
-            sfz += fz
-            stx += ai * cx
-            sty += ai * cy
-            stz += ai * cz
+    n = x.shape[0]
+    if direct is not None:
+        for i in prange(n):
+            for c in range(3):
+                f[i, c] = 0.0
+                t[i, c] = 0.0
+    slab_start = prs.slab_start
+    slab_sphere = prs.slab_sphere
+    n_slabs = slab_start.shape[0] - 1
+    for phase in range(1 if direct is None else 2):
+        n_par = n if direct is None else (n_slabs + 1 - phase) // 2
+        for s in prange(n_par):
+            lo = s
+            hi = s + 1
+            if direct is not None:
+                lo = slab_start[2 * s + phase]
+                hi = slab_start[2 * s + phase + 1]
+            for idx in range(lo, hi):
+                i = idx if direct is None else slab_sphere[idx]
+                _pair_row(i, x, v, w, r, inv_m, f, t, nbr, tpos, ut, active, pf, mat, prs.start, prm, mu,
+                          mtab, rolling, direct, need_m, need_r, pax, plen, dt)
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def _pair_row(i, x, v, w, r, inv_m, f, t, nbr, tpos, ut, active, pf, mat, start, prm, mu, mtab, rolling, direct,
+              need_m, need_r, pax, plen, dt):
+    """Every pair listed under sphere i (``pair_forces``): the law, the histories, the
+    sums on i, the force on j (a row, or added to j with ``direct``)."""
+    ri = r[i]
+    xi = x[i, 0]
+    yi = x[i, 1]
+    zi = x[i, 2]
+    vix = v[i, 0]      # hoisted: numba cannot prove the stores below do not alias them
+    viy = v[i, 1]
+    viz = v[i, 2]
+    wix = w[i, 0]
+    wiy = w[i, 1]
+    wiz = w[i, 2]
+    imi = inv_m[i]
+    sfx = 0.0
+    sfy = 0.0
+    sfz = 0.0
+    stx = 0.0
+    sty = 0.0
+    stz = 0.0
+    rtx = 0.0          # the rolling moments, summed apart as the separate pass did
+    rty = 0.0
+    rtz = 0.0
+    for k in range(start[i], start[i + 1]):
+        j = nbr[k]
+        dx = x[j, 0] - xi
+        dy = x[j, 1] - yi
+        dz = x[j, 2] - zi
+        if pax == 0:
+            dx = _min_image(dx, plen)
+        elif pax == 1:
+            dy = _min_image(dy, plen)
+        elif pax == 2:
+            dz = _min_image(dz, plen)
+        rs = ri + r[j]
+        d2 = dx * dx + dy * dy + dz * dz
+        if d2 >= rs * rs:
+            if active[k]:           # contact just opened: forget history and force
+                active[k] = 0
+                ut[k, 0] = 0.0
+                ut[k, 1] = 0.0
+                ut[k, 2] = 0.0
+                if rolling is not None:
+                    ut[k, 3] = 0.0
+                    ut[k, 4] = 0.0
+                    ut[k, 5] = 0.0
+                kt_ = tpos[k] if direct is None else k
+                for c in range(8):
+                    pf[kt_, c] = 0.0
+            continue
+        d = math.sqrt(d2)
+        inv_d = 1.0 / d
+        nx = dx * inv_d
+        ny = dy * inv_d
+        nz = dz * inv_d
+        delta = rs - d
+        h = 0.5 * delta
+        ai = ri - h          # lever arms to the centre of the overlap region
+        aj = r[j] - h
+        # contact-point velocity of i relative to j: v_i - v_j + (a_i w_i + a_j w_j) x n
+        wx = ai * wix + aj * w[j, 0]
+        wy = ai * wiy + aj * w[j, 1]
+        wz = ai * wiz + aj * w[j, 2]
+        vrx = vix - v[j, 0] + (wy * nz - wz * ny)
+        vry = viy - v[j, 1] + (wz * nx - wx * nz)
+        vrz = viz - v[j, 2] + (wx * ny - wy * nx)
+        m_eff = 0.0
+        if need_m:
+            s = imi + inv_m[j]
+            m_eff = 1.0 / s if s > 0.0 else 0.0
+        r_eff = ri * r[j] / rs if need_r else 0.0
+        if mtab is None:
+            fx, fy, fz, fn, ux, uy, uz = contact_law(prm, mu, delta, nx, ny, nz, vrx, vry, vrz,
+                                                     m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
+        else:
+            pp = pair_params(mtab, mat[i], mat[j])
+            fx, fy, fz, fn, ux, uy, uz = contact_law(pp, pp.mu, delta, nx, ny, nz, vrx, vry, vrz,
+                                                     m_eff, r_eff, ut[k, 0], ut[k, 1], ut[k, 2], dt)
+        ut[k, 0] = ux
+        ut[k, 1] = uy
+        ut[k, 2] = uz
+        active[k] = 1
+        # torque on i: (a_i n) x F; on j: (-a_j n) x (-F) = a_j (n x F)
+        cx = ny * fz - nz * fy
+        cy = nz * fx - nx * fz
+        cz = nx * fy - ny * fx
+        sfx += fx
+        sfy += fy
+        sfz += fz
+        stx += ai * cx
+        sty += ai * cy
+        stz += ai * cz
+        if direct is None:
             kt_ = tpos[k]
             pf[kt_, 0] = -fx
             pf[kt_, 1] = -fy
@@ -410,32 +450,55 @@ def pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling=None):
             pf[kt_, 4] = aj * cy
             pf[kt_, 5] = aj * cz
             pf[kt_, 6] = fn
-            if rolling is not None:
-                pr = prm if mtab is None else pair_params(mtab, mat[i], mat[j])
-                if pr.mu_roll > 0.0:
-                    mx, my, mz = rolling_moment(pr, fn, delta, ri * r[j] / rs, wix - w[j, 0], wiy - w[j, 1],
-                                                wiz - w[j, 2], dx / d, dy / d, dz / d,
-                                                ut[k, 3], ut[k, 4], ut[k, 5], dt)
-                    ut[k, 3] = mx
-                    ut[k, 4] = my
-                    ut[k, 5] = mz
-                    rtx += mx
-                    rty += my
-                    rtz += mz
+        else:
+            pf[k, 0] = -fx
+            pf[k, 1] = -fy
+            pf[k, 2] = -fz
+            pf[k, 6] = fn
+            f[j, 0] -= fx
+            f[j, 1] -= fy
+            f[j, 2] -= fz
+            t[j, 0] += aj * cx
+            t[j, 1] += aj * cy
+            t[j, 2] += aj * cz
+        if rolling is not None:
+            pr = prm if mtab is None else pair_params(mtab, mat[i], mat[j])
+            if pr.mu_roll > 0.0:
+                mx, my, mz = rolling_moment(pr, fn, delta, ri * r[j] / rs, wix - w[j, 0], wiy - w[j, 1],
+                                            wiz - w[j, 2], dx / d, dy / d, dz / d,
+                                            ut[k, 3], ut[k, 4], ut[k, 5], dt)
+                ut[k, 3] = mx
+                ut[k, 4] = my
+                ut[k, 5] = mz
+                rtx += mx
+                rty += my
+                rtz += mz
+                if direct is None:
                     pf[kt_, 3] -= mx
                     pf[kt_, 4] -= my
                     pf[kt_, 5] -= mz
+                else:
+                    t[j, 0] -= mx
+                    t[j, 1] -= my
+                    t[j, 2] -= mz
+    if rolling is not None:
+        stx += rtx
+        sty += rty
+        stz += rtz
+    if direct is None:
         f[i, 0] = sfx
         f[i, 1] = sfy
         f[i, 2] = sfz
-        if rolling is not None:
-            t[i, 0] = stx + rtx
-            t[i, 1] = sty + rty
-            t[i, 2] = stz + rtz
-        else:
-            t[i, 0] = stx
-            t[i, 1] = sty
-            t[i, 2] = stz
+        t[i, 0] = stx
+        t[i, 1] = sty
+        t[i, 2] = stz
+    else:
+        f[i, 0] += sfx
+        f[i, 1] += sfy
+        f[i, 2] += sfz
+        t[i, 0] += stx
+        t[i, 1] += sty
+        t[i, 2] += stz
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -513,7 +576,7 @@ def _panel_contact(sph, wps, pan, prm, mtab, dt, need_m, i, k, w_act, w_ut, w_ou
 
 @njit(parallel=True, cache=True, fastmath=FASTMATH)
 def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_limit2, integrate,
-                    mtab, has_fext, bnd):
+                    mtab, has_fext, bnd, direct=None):
     """Pass 2 (see module docstring): total contact force and torque per sphere (starting
     from pass 1's partial sums in sph.f / sph.t), bond forces (``bnd``: None or Bonds,
     from ``bond_forces``, gathered per sphere in increasing bond order), wall contacts,
@@ -521,6 +584,8 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
     spheres (if ``integrate``). Must follow ``pair_forces``. ``mtab`` as in pair_forces
     (panel material sph.mat / pan.mat; the pair's friction replaces the panel's mu).
     sph.f / sph.t hold the total (contact + bond + external) force and torque afterwards.
+    direct: as in pair_forces (None: add the rows of the pairs where i is the second
+    sphere; True: pass 1 has added them already).
 
     Returns (n_moved, n_bad, n_fast): spheres farther than sqrt(ref_limit2) from their
     position at the last list build, spheres with a non-finite state, spheres faster than
@@ -551,14 +616,15 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
         tx = t[i, 0]
         ty = t[i, 1]
         tz = t[i, 2]
-        for kk in range(prs.tstart[i], prs.tstart[i + 1]):
-            # pairs where i is the second sphere: sequential, zero rows for open pairs
-            fx += pf[kk, 0]
-            fy += pf[kk, 1]
-            fz += pf[kk, 2]
-            tx += pf[kk, 3]
-            ty += pf[kk, 4]
-            tz += pf[kk, 5]
+        if direct is None:
+            for kk in range(prs.tstart[i], prs.tstart[i + 1]):
+                # pairs where i is the second sphere: sequential, zero rows for open pairs
+                fx += pf[kk, 0]
+                fy += pf[kk, 1]
+                fz += pf[kk, 2]
+                tx += pf[kk, 3]
+                ty += pf[kk, 4]
+                tz += pf[kk, 5]
         if bnd is not None:
             for kk in range(bnd.start[i], bnd.start[i + 1]):
                 e = bnd.entry[kk]
@@ -1493,7 +1559,7 @@ def segments_velocity(seg, panel_force, dt):
 
 @njit(cache=True)
 def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed_limit2,
-            walls, loads, n_steps, time, mtab, has_fext, bnd, att, rolling, seg):
+            walls, loads, n_steps, time, mtab, has_fext, bnd, att, rolling, seg, direct=None):
     """Run up to ``n_steps`` steps (module docstring, passes 1-4, then the walls move).
 
     walls: ``state.WallMotion`` (the motion samples of each step: only rows of moving
@@ -1508,6 +1574,7 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     seg: ``state.Segments`` or None: boundary segments whose velocity each step sets for
     the next (``segments_velocity``, after the walls move; written into the next step's
     rows of ``walls``).
+    direct: None or True, as in pair_forces and gather_and_move.
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
     that moved a sphere or a panel more than skin/2 since the last list build, or broke a
     bond (the pair must enter the neighbour list), or with STATUS_NONFINITE /
@@ -1528,11 +1595,11 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
         if bnd is not None:
             broken = bond_forces(sph, bnd, dt, pax, plen)
         if rolling:
-            pair_forces(sph, prs, prm, dt, pax, plen, mtab, True)
+            pair_forces(sph, prs, prm, dt, pax, plen, mtab, True, direct)
         else:
-            pair_forces(sph, prs, prm, dt, pax, plen, mtab, None)
+            pair_forces(sph, prs, prm, dt, pax, plen, mtab, None, direct)
         moved, bad, fast = gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz,
-                                           ref_limit2, speed_limit2, True, mtab, has_fext, bnd)
+                                           ref_limit2, speed_limit2, True, mtab, has_fext, bnd, direct)
         if has_clumps:
             m2, b2, f2 = move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2)
             moved += m2

@@ -65,7 +65,7 @@ def unbalanced_force_ratio(sim: Simulation) -> float:
     prs = sim.pairs
     total = int(prs.start[-1])
     act = prs.active[:total].astype(bool)
-    pair_f = np.linalg.norm(prs.pf[prs.tpos[:total][act], 0:3], axis=1)
+    pair_f = np.linalg.norm(prs.pf[sim.pair_rows()[act], 0:3], axis=1)
     wps = sim.wall_pairs
     wtotal = int(wps.start[-1])
     wall_f = np.linalg.norm(wps.out[:wtotal][wps.active[:wtotal].astype(bool), 0:3], axis=1)
@@ -218,7 +218,7 @@ def contact_branches(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarra
         dist = np.sqrt((d * d).sum(axis=1))
         n = d / dist[:, None]
         h = 0.5 * (sph.r[i] + sph.r[j] - dist)
-        f_j = prs.pf[prs.tpos[k], 0:3]
+        f_j = prs.pf[sim.pair_rows()[k], 0:3]
         rows_s += [i, j]
         rows_b += [(sph.r[i] - h)[:, None] * n, -(sph.r[j] - h)[:, None] * n]
         rows_f += [-f_j, f_j]
@@ -288,7 +288,7 @@ def _add_outer(stress, s, l0, l1, l2, f0, f1, f2):
 
 
 @njit(cache=True)
-def _love_weber_sums(stress, slice_of, x, r, start, nbr, active, tpos, pf, wstart, wactive, wout,
+def _love_weber_sums(stress, slice_of, x, r, start, nbr, active, row, pf, wstart, wactive, wout,
                      bi, bj, bstate, bout, pax, plen):
     """stress[s] += l (x) f over every contact force on a sphere of slice s (rows in
     ``contact_branches``'s order: the first spheres of the pairs, their second spheres,
@@ -301,9 +301,9 @@ def _love_weber_sums(stress, slice_of, x, r, start, nbr, active, tpos, pf, wstar
                     continue
                 j = nbr[k]
                 ai0, ai1, ai2, aj0, aj1, aj2 = _branch(x, r, i, j, pax, plen)
-                f0 = pf[tpos[k], 0]
-                f1 = pf[tpos[k], 1]
-                f2 = pf[tpos[k], 2]
+                f0 = pf[row[k], 0]
+                f1 = pf[row[k], 1]
+                f2 = pf[row[k], 2]
                 if side == 0:
                     _add_outer(stress, slice_of[i], ai0, ai1, ai2, -f0, -f1, -f2)
                 else:
@@ -364,7 +364,7 @@ def slice_averages(sim: Simulation, edges, area: float, axis: int = 2) -> SliceA
     prs, wps, bnd = sim.pairs, sim.wall_pairs, sim.bonds
     pax, plen = (sim.periodic.axis, sim.periodic.length) if sim.periodic is not None else (-1, 0.0)
     no_bonds = (np.zeros(0, np.int64), np.zeros((0, 12)))
-    _love_weber_sums(stress, s, sph.x, sph.r, prs.start, prs.nbr, prs.active, prs.tpos, prs.pf,
+    _love_weber_sums(stress, s, sph.x, sph.r, prs.start, prs.nbr, prs.active, sim.pair_rows(), prs.pf,
                      wps.start, wps.active, wps.out, *((bnd.i, bnd.j, bnd.state, bnd.out) if bnd is not None
                                                       else (no_bonds[0], no_bonds[0], no_bonds[0], no_bonds[1])),
                      pax, plen)

@@ -19,7 +19,7 @@ def contacts(sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nd
     """Touching sphere pairs of the last force evaluation: (i (m,), j (m,), separation
     x_j - x_i with the minimum image (m, 3) [m], normal force (m,) [N])."""
     i, j, d, k = _touching(sim)
-    return i, j, d, sim.pairs.pf[sim.pairs.tpos[k], 6].copy()
+    return i, j, d, sim.pairs.pf[sim.pair_rows()[k], 6].copy()
 
 
 def _touching(sim: Simulation):
@@ -68,7 +68,7 @@ def frame(sim: Simulation) -> Frame:
     specimen's order whatever order the engine keeps internally (it re-sorts by cell for
     memory locality), so sphere k of every frame is the same grain."""
     i, j, d, k = _touching(sim)
-    pf = sim.pairs.pf[sim.pairs.tpos[k]]
+    pf = sim.pairs.pf[sim.pair_rows()[k]]
     x = sim.spheres.x
     corners = sim.walls.corners()
     orig = sim.original_index

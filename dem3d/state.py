@@ -96,7 +96,12 @@ class Pairs(NamedTuple):
     pf:     (cap, 8)  by TRANSPOSED position (so pass 2 reads it sequentially), from the
                       last evaluation: force on j (3) [N], torque on j about its centre (3)
                       [N m], normal force (compression +) [N], unused; all zero for a pair
-                      not in contact
+                      not in contact. With ``Simulation.direct_sums`` by pair k instead, and
+                      only the force on j and the normal force (columns 0-2, 6)
+    slab_start: (nslab+1,) spheres of slab s (cell layers along z at the build, a
+                      pair's second sphere in its first sphere's slab or the next one) at
+                      slab_sphere[slab_start[s]:slab_start[s+1]], increasing index
+    slab_sphere: (n,)
     """
 
     start: np.ndarray
@@ -107,6 +112,8 @@ class Pairs(NamedTuple):
     ut: np.ndarray
     active: np.ndarray
     pf: np.ndarray
+    slab_start: np.ndarray
+    slab_sphere: np.ndarray
 
 
 class WallPairs(NamedTuple):

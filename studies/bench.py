@@ -16,6 +16,7 @@ machine compare the ratio, not the absolute rates.
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import shutil
@@ -74,8 +75,8 @@ def read_packing(n: int, copies_y: int = 1) -> tuple[np.ndarray, np.ndarray]:
     return pos, radii
 
 
-def build_problem(n: int, copies_y: int = 1):
-    """The benchmark problem as a dem3d Simulation."""
+def build_problem(n: int, copies_y: int = 1, direct_sums: bool = False):
+    """The benchmark problem as a dem3d Simulation (``direct_sums``: Simulation's)."""
     from dem3d import Periodic, Simulation, Specimen, Wall, linear, plane
 
     pos, radii = read_packing(n, copies_y)
@@ -85,7 +86,7 @@ def build_problem(n: int, copies_y: int = 1):
              Wall("x1", plane((BOX_X, 0.0, 0.0), (-1.0, 0.0, 0.0), mu=0.65)),
              Wall("floor", plane((0.0, 0.0, 0.0), (0.0, 0.0, 1.0), mu=0.65))]
     return Simulation(spec, params, dt=DT, walls=walls, periodic=Periodic(1, 0.0, PERIOD_Y * copies_y),
-                      skin=SKIN)
+                      skin=SKIN, direct_sums=direct_sums)
 
 
 def _summary(sim, n: int, steps: int, seconds: float, cpu_seconds: float | None = None) -> EngineRun:
@@ -99,16 +100,16 @@ def _summary(sim, n: int, steps: int, seconds: float, cpu_seconds: float | None 
     return EngineRun(n, steps, seconds, n * steps / seconds, ke, total - ke, 2 * pairs, cpu_seconds)
 
 
-def time_wallsim(n: int, steps: int, threads: int, copies_y: int = 1) -> EngineRun:
+def time_wallsim(n: int, steps: int, threads: int, copies_y: int = 1, direct_sums: bool = False) -> EngineRun:
     """Time ``steps`` steps of the benchmark in dem3d on ``threads`` numba threads."""
     import numba
 
     if threads > numba.config.NUMBA_NUM_THREADS:
         raise InvalidParameter("threads", threads, f"<= {numba.config.NUMBA_NUM_THREADS} (NUMBA_NUM_THREADS)")
     numba.set_num_threads(threads)
-    warm = build_problem(10_000)          # compiles (or loads from the cache) every kernel
+    warm = build_problem(10_000, direct_sums=direct_sums)      # compiles (or loads from the cache) every kernel
     warm.step(3)
-    sim = build_problem(n, copies_y)
+    sim = build_problem(n, copies_y, direct_sums)
     start, cpu = time.perf_counter(), time.process_time()
     sim.step(steps)
     seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
@@ -166,7 +167,7 @@ def _children_cpu() -> float:
 
 
 def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts: bool = True,
-                ranks: int | None = None, pairs: int = 3, *, engines=None) -> dict:
+                ranks: int | None = None, pairs: int = 3, *, direct_sums: bool = False, engines=None) -> dict:
     """Both engines on the same problem, core for core (LIGGGHTS on ``ranks`` MPI
     processes, default as many as dem3d's ``threads``), as ``pairs`` interleaved pairs
     (wallsim, LIGGGHTS, wallsim, LIGGGHTS, ...): a shared machine's speed drifts between
@@ -174,9 +175,10 @@ def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts:
     the medians the CLI's --json prints (wallsim_particle_steps_per_s,
     liggghts_particle_steps_per_s, ratio: the median of the pairs' ratios) with their
     min-max, every pair, CPU seconds, and the physics cross-check of the last pair.
-    ``engines``: (wallsim runner, LIGGGHTS runner) to time, for tests."""
+    ``direct_sums``: dem3d's Simulation option. ``engines``: (wallsim runner, LIGGGHTS
+    runner) to time, for tests."""
     ranks = threads if ranks is None else ranks
-    time_ours, time_theirs = engines or (time_wallsim, run_liggghts)
+    time_ours, time_theirs = engines or (functools.partial(time_wallsim, direct_sums=direct_sums), run_liggghts)
     runs = []
     for _ in range(pairs):
         ours = time_ours(n, steps, threads)
@@ -193,6 +195,7 @@ def bench_dem3d(n: int = 30_000, steps: int = 5_000, threads: int = 2, liggghts:
     ratios = spread(o.particle_steps_per_s / t.particle_steps_per_s for o, t in runs) if liggghts else None
     return {
         "n": n, "steps": steps, "threads": threads, "liggghts_ranks": ranks if liggghts else None, "pairs": pairs,
+        "direct_sums": direct_sums,
         "wallsim_particle_steps_per_s": ps_ours["median"],
         "liggghts_particle_steps_per_s": ps_theirs["median"] if ps_theirs else None,
         "ratio": ratios["median"] if ratios else None,

@@ -75,7 +75,7 @@ def soil_forces_on(sim, members: np.ndarray) -> np.ndarray:
     k = np.nonzero(prs.active[:total])[0]
     i = np.searchsorted(prs.start, k, side="right") - 1
     j = prs.nbr[k]
-    f_j = prs.pf[prs.tpos[k], 0:3]                      # force on j; -f_j on i
+    f_j = prs.pf[sim.pair_rows()[k], 0:3]                      # force on j; -f_j on i
     out = np.zeros((n, 3))
     a = mine[i] & ~mine[j]
     b = mine[j] & ~mine[i]

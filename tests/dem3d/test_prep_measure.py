@@ -84,7 +84,7 @@ def test_settle_reaches_the_unbalanced_force_ratio_and_the_pile_is_static():
     f = frame(sim)
     n_bodies = len(sim.body_masses())
     prs, wps = sim.pairs, sim.wall_pairs
-    pair_f = np.linalg.norm(prs.pf[prs.tpos[:prs.start[-1]][prs.active[:prs.start[-1]] > 0], :3], axis=1)
+    pair_f = np.linalg.norm(prs.pf[sim.pair_rows()[prs.active[:prs.start[-1]] > 0], :3], axis=1)
     wall_f = np.linalg.norm(wps.out[:wps.start[-1]][wps.active[:wps.start[-1]] > 0, :3], axis=1)
     mean_contact = float(np.mean(np.concatenate([pair_f, wall_f])))
     bound = result.ratio * n_bodies * mean_contact      # = sum over bodies of |F_unbalanced|
