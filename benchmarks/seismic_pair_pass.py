@@ -14,9 +14,12 @@ The state is the default coarse case's static state (13,401 spheres, from the ca
   pairs) instead of by transposed position, pass 2 reading them through ``tpair``: the
   same sums in the same order (checked: equal forces and torques), timed as pass 1 alone
   and as passes 1 and 2 together, since it moves the scattered access from one pass to
-  the other.
+  the other;
+- ``direct_sums``: the engine's own ``pair_forces(..., direct=True)`` and pass 2 without a
+  gather (``Simulation.direct_sums``: the forces on j added to j in pass 1, slab by slab),
+  timed as passes 1 and 2.
 
-Each variant is a copy of dem3d in a temporary folder with ``pair_forces`` (and for
+Each variant is a copy of dem3d in a temporary folder with ``_pair_row`` (and for
 ``rows_by_pair`` ``gather_and_move``) edited as text, imported as its own package. The
 variants run in blocks of ``--calls`` calls, all of them in turn forwards then backwards
 (A B C ... C B A), ``--rounds`` times; the figures are CPU seconds (process time) per call,
@@ -45,8 +48,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent.parent
 
 
-def _edit_pair_forces(text: str, edit) -> str:
-    a = text.index("def pair_forces(")
+def _edit_pair_row(text: str, edit) -> str:
+    a = text.index("def _pair_row(")
     b = text.index("@njit", a)
     new = edit(text[a:b])
     assert new != text[a:b]
@@ -62,52 +65,26 @@ def _no_history(s: str) -> str:
 
 
 def _distance_only(s: str) -> str:
-    return s.replace("            d = math.sqrt(d2)\n", "            sfx += d2\n            continue\n"
-                     "            d = math.sqrt(d2)\n", 1)
+    return s.replace("        d = math.sqrt(d2)\n", "        sfx += d2\n        continue\n        d = math.sqrt(d2)\n", 1)
 
 
 def _rows_by_pair(text: str) -> str:
-    text = _edit_pair_forces(text, lambda s: s.replace("kt_ = tpos[k]", "kt_ = k"))
+    text = _edit_pair_row(text, lambda s: s.replace("kt_ = tpos[k]", "kt_ = k"))
     a = text.index("def gather_and_move(")
     b = text.index("@njit", a)
     body = text[a:b]
-    new = body.replace("            fx += pf[kk, 0]", "            kp = prs.tpair[kk]\n            fx += pf[kp, 0]")
+    new = re.sub(r"\n( +)fx \+= pf\[kk, 0\]", r"\n\1kp = prs.tpair[kk]\n\1fx += pf[kp, 0]", body)
     for c, name in ((1, "fy"), (2, "fz"), (3, "tx"), (4, "ty"), (5, "tz")):
         new = new.replace(f"{name} += pf[kk, {c}]", f"{name} += pf[kp, {c}]")
     assert new.count("pf[kp,") == 6
     return text[:a] + new + text[b:]
 
 
-def _direct_j(text: str) -> str:
-    """One thread only: the forces on j added to sph.f / sph.t as the pairs are visited
-    (their sum order differs from the real kernels'), the normal force kept by pair."""
-    def edit(s):
-        s = s.replace("    for i in prange(x.shape[0]):\n", "    f[:, :] = 0.0\n    t[:, :] = 0.0\n"
-                      "    for i in prange(x.shape[0]):\n", 1)
-        for c, line in enumerate(("f[j, 0] -= fx", "f[j, 1] -= fy", "f[j, 2] -= fz", "t[j, 0] += aj * cx",
-                                  "t[j, 1] += aj * cy", "t[j, 2] += aj * cz", "pf[k, 6] = fn")):
-            s = re.sub(rf"pf\[kt_, {c}\] = [^\n]*", line, s)
-        for c, (arr, m) in enumerate((("t[j, 0]", "mx"), ("t[j, 1]", "my"), ("t[j, 2]", "mz")), start=3):
-            s = s.replace(f"pf[kt_, {c}] -= {m}", f"{arr} -= {m}")
-        for a, b in (("f[i, 0] = sfx", "f[i, 0] += sfx"), ("f[i, 1] = sfy", "f[i, 1] += sfy"),
-                     ("f[i, 2] = sfz", "f[i, 2] += sfz"), ("t[i, 0] = stx + rtx", "t[i, 0] += stx + rtx"),
-                     ("t[i, 1] = sty + rty", "t[i, 1] += sty + rty"), ("t[i, 2] = stz + rtz", "t[i, 2] += stz + rtz")):
-            assert a in s
-            s = s.replace(a, b)
-        assert "pf[kt_, 0]" not in s and "pf[kt_, 3] -=" not in s
-        return s
-    text = _edit_pair_forces(text, edit)
-    loop = "        for kk in range(prs.tstart[i], prs.tstart[i + 1]):\n            # pairs where i is the second"
-    assert text.count(loop) == 1
-    return text.replace(loop, "        for kk in range(0):\n            # pairs where i is the second")
-
-
 EDITS = {"as_is": lambda t: t,
-         "no_j_rows": lambda t: _edit_pair_forces(t, _no_j_rows),
-         "no_history": lambda t: _edit_pair_forces(t, _no_history),
-         "distance_only": lambda t: _edit_pair_forces(t, _distance_only),
-         "rows_by_pair": _rows_by_pair,
-         "direct_j": _direct_j}
+         "no_j_rows": lambda t: _edit_pair_row(t, _no_j_rows),
+         "no_history": lambda t: _edit_pair_row(t, _no_history),
+         "distance_only": lambda t: _edit_pair_row(t, _distance_only),
+         "rows_by_pair": _rows_by_pair}
 
 
 def variant_kernels(folder: Path) -> dict:
@@ -138,6 +115,7 @@ def main() -> None:
 
     case = SeismicCase()
     sim, _, _, _ = coupled(case, prepare(case, args.cache))
+    sim._rebuild()                 # a cached state may predate the slabs the direct sums need
     sim.step(50)
     sph, prs = sim.spheres, sim.pairs
     pax, plen = sim._periodic_args()
@@ -150,13 +128,16 @@ def main() -> None:
     by_pair = prs._replace(pf=prs.pf.copy())
     by_pair.pf[:total] = prs.pf[tpos]
 
-    def pass1(mod, pairs=prs, rolling=True):
-        mod.pair_forces(sph, pairs, sim.params, sim.dt, pax, plen, sim.mtab, rolling)
+    # the engine's direct sums (Simulation.direct_sums) write their rows by pair too
+    direct_pairs = prs._replace(pf=by_pair.pf.copy())
 
-    def both(mod, pairs=prs):
-        pass1(mod, pairs)
+    def pass1(mod, pairs=prs, rolling=True, direct=None):
+        mod.pair_forces(sph, pairs, sim.params, sim.dt, pax, plen, sim.mtab, rolling, direct)
+
+    def both(mod, pairs=prs, direct=None):
+        pass1(mod, pairs, direct=direct)
         mod.gather_and_move(sph, pairs, sim.wall_pairs, sim.walls.panels, sim.params, sim.dt, 0.0, 0.0, 0.0,
-                            0.0, 0.0, False, sim.mtab, sim.use_f_ext, sim.bonds)
+                            0.0, 0.0, False, sim.mtab, sim.use_f_ext, sim.bonds, direct)
 
     # the same sums: forces and torques of passes 1 and 2 from one saved history
     # (pass 2 advances the wall contacts' histories too)
@@ -171,7 +152,7 @@ def main() -> None:
         results[name] = (sph.f.copy(), sph.t.copy())
     for a, s in zip(history, saved):
         a[...] = s
-    both(mods["direct_j"])
+    both(mods["real"], direct_pairs, True)
     direct = (sph.f.copy(), sph.t.copy())
     same_bits = all(np.array_equal(a, b) for a, b in zip(results["real"], results["rows_by_pair"]))
     scale = [np.abs(a).max() for a in results["real"]]
@@ -180,10 +161,10 @@ def main() -> None:
     runs = {"pass1 real": lambda: pass1(mods["real"]),
             "pass1 no_rolling": lambda: pass1(mods["real"], rolling=None),
             **{f"pass1 {n}": (lambda m=mods[n], pr=(by_pair if n == "rows_by_pair" else prs): pass1(m, pr))
-               for n in EDITS if n != "direct_j"},
+               for n in EDITS},
             "pass1+2 real": lambda: both(mods["real"]),
             "pass1+2 rows_by_pair": lambda: both(mods["rows_by_pair"], by_pair),
-            "pass1+2 direct_j": lambda: both(mods["direct_j"])}
+            "pass1+2 direct_sums": lambda: both(mods["real"], direct_pairs, True)}
 
     def block(fn) -> float:
         c = time.process_time()
@@ -209,7 +190,7 @@ def main() -> None:
               f"({q[0]:.3f}-{q[2]:.3f})", flush=True)
     summary = {"spheres": sim.n_spheres, "pairs_listed": total, "pairs_touching": int(prs.active[:total].sum()),
                "rounds": args.rounds, "calls_per_block": args.calls, "rows_by_pair_same_bits": same_bits,
-               "direct_j_max_difference_over_max_load": direct_diff,
+               "direct_sums_max_difference_over_max_load": direct_diff,
                "load_average_1min": os.getloadavg()[0], "variants": rows}
     print(json.dumps({k: v for k, v in summary.items() if k != "variants"}))
     if args.out:

@@ -387,6 +387,27 @@ class Simulation:
     def _rebuild(self, first: bool = False, new_to_old: np.ndarray | None = None) -> None:
         neighbours.rebuild(self, first, new_to_old)
 
+    @property
+    def direct_sums(self) -> bool:
+        """The constructor's ``direct_sums``; switched on a running simulation, the rows of
+        ``pairs.pf`` are moved to the other layout, so measurements read the right rows and
+        pass 2 never adds a row of a pair not in contact (all-zero in both layouts)."""
+        return self._direct_sums
+
+    @direct_sums.setter
+    def direct_sums(self, on: bool) -> None:
+        on = bool(on)
+        if getattr(self, "_direct_sums", on) != on:
+            prs = self.pairs
+            total = int(prs.start[-1])
+            tpos = prs.tpos[:total]
+            rows = prs.pf[:total].copy()
+            if on:
+                prs.pf[:total] = rows[tpos]          # by transposed position -> by pair
+            else:
+                prs.pf[tpos] = rows                  # by pair -> by transposed position
+        self._direct_sums = on
+
     def pair_rows(self) -> np.ndarray:
         """For each listed pair k (0 .. pairs.start[-1] - 1) the row of ``pairs.pf`` that
         holds its force on the second sphere and its normal force: its transposed position,

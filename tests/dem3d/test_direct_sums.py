@@ -8,7 +8,8 @@ What is checked, and against what:
 - the result does not depend on the thread count (the slabs of one phase never write the
   same sphere), with clumps and walls, with Hertz-Mindlin and rolling resistance, and
   periodic along z with an odd number of cell layers (the last joins the one below);
-- a run split by a checkpoint ends where the unbroken run ends.
+- a run split by a checkpoint ends where the unbroken run ends, and the option switched
+  on a running simulation moves the force rows with it.
 The thread test cannot be relied on to catch a race on systems this small, so the
 colouring's premise is checked on its own: every listed pair's second sphere lies in its
 first sphere's slab or the next (cyclically), and no two slabs of one phase meet.
@@ -128,3 +129,20 @@ def test_checkpoint_and_resume_equals_one_run():
     assert resumed.direct_sums
     resumed.step(800)
     assert_same(whole.to_arrays(), resumed.to_arrays())
+
+
+def test_switching_moves_the_force_rows():
+    """Switched both ways between steps, the measurements read the same forces, and a run
+    that switches on and off again before its next step continues bit for bit."""
+    sim = walls_and_clumps(False)
+    sim.step(8000)
+    twin = Simulation.from_arrays(sim.to_arrays(), walls=walls_and_clumps(False).walls.walls)
+    touching = sim.pairs.active[:sim.pairs.start[-1]] > 0
+    before = sim.pairs.pf[sim.pair_rows()[touching]][:, [0, 1, 2, 6]]
+    sim.direct_sums = True
+    assert np.array_equal(sim.pairs.pf[sim.pair_rows()[touching]][:, [0, 1, 2, 6]], before)
+    sim.direct_sums = False
+    assert np.array_equal(sim.pairs.pf[sim.pair_rows()[touching]][:, [0, 1, 2, 6]], before)
+    sim.step(300)
+    twin.step(300)
+    assert_same(sim.to_arrays(), twin.to_arrays())
