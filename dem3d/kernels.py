@@ -225,11 +225,9 @@ def _min_image(d, length):
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
-def separation(x, i, j, pax, plen):
-    """x[j] - x[i] with the minimum image along the periodic axis ``pax`` (-1: none)."""
-    dx = x[j, 0] - x[i, 0]
-    dy = x[j, 1] - x[i, 1]
-    dz = x[j, 2] - x[i, 2]
+def min_image(dx, dy, dz, pax, plen):
+    """The separation (dx, dy, dz) with the minimum image along the periodic axis ``pax``
+    (-1: none) of length ``plen``."""
     if pax == 0:
         dx = _min_image(dx, plen)
     elif pax == 1:
@@ -237,6 +235,12 @@ def separation(x, i, j, pax, plen):
     elif pax == 2:
         dz = _min_image(dz, plen)
     return dx, dy, dz
+
+
+@njit(cache=True, fastmath=FASTMATH, inline="always")
+def separation(x, i, j, pax, plen):
+    """x[j] - x[i] with the minimum image along the periodic axis ``pax`` (-1: none)."""
+    return min_image(x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2], pax, plen)
 
 
 @njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -374,15 +378,7 @@ def _pair_row(i, x, v, w, r, inv_m, f, t, nbr, tpos, ut, active, pf, mat, start,
     rtz = 0.0
     for k in range(start[i], start[i + 1]):
         j = nbr[k]
-        dx = x[j, 0] - xi
-        dy = x[j, 1] - yi
-        dz = x[j, 2] - zi
-        if pax == 0:
-            dx = _min_image(dx, plen)
-        elif pax == 1:
-            dy = _min_image(dy, plen)
-        elif pax == 2:
-            dz = _min_image(dz, plen)
+        dx, dy, dz = min_image(x[j, 0] - xi, x[j, 1] - yi, x[j, 2] - zi, pax, plen)
         rs = ri + r[j]
         d2 = dx * dx + dy * dy + dz * dz
         if d2 >= rs * rs:
@@ -1170,15 +1166,7 @@ def scan_pairs(x, r, clump, cell, cell_start, order, xr, clump_sorted, nc, pax, 
             for kk in range(cell_start[c], cell_start[c + 1]):
                 if ci >= 0 and ci == clump_sorted[kk]:
                     continue
-                dx = xr[kk, 0] - xi
-                dy = xr[kk, 1] - yi
-                dz = xr[kk, 2] - zi
-                if pax == 0:
-                    dx = _min_image(dx, plen)
-                elif pax == 1:
-                    dy = _min_image(dy, plen)
-                elif pax == 2:
-                    dz = _min_image(dz, plen)
+                dx, dy, dz = min_image(xr[kk, 0] - xi, xr[kk, 1] - yi, xr[kk, 2] - zi, pax, plen)
                 cut = ri + xr[kk, 3] + skin
                 if dx * dx + dy * dy + dz * dz < cut * cut:
                     j = order[kk]
