@@ -27,22 +27,19 @@ def empty_pairs(n: int, cap: int, width: int = 3) -> Pairs:
                  pf=np.zeros((cap, 8)), slab_start=np.zeros(1, np.int64), slab_sphere=np.zeros(0, np.int64))
 
 
-def slabs(cell: np.ndarray, nc: np.ndarray, pax: int) -> tuple[np.ndarray, np.ndarray]:
-    """(slab_start, slab_sphere) of ``state.Pairs``: the spheres by the cell layer along z
-    of their cell at this build. The half stencil lists a pair under the sphere whose
-    layer is the same or the one below, so a pair's second sphere lies in its first
-    sphere's slab or the next; periodic along z with an odd number of layers, the last
-    layer joins the one below it, so that the last slab's pairs reaching across to slab
-    0 are made in the phase that does not visit slab 0 (pair_forces ``direct``)."""
-    layer = cell // (nc[0] * nc[1])
+def slabs(cell_start: np.ndarray, order: np.ndarray, nc: np.ndarray, pax: int) -> tuple[np.ndarray, np.ndarray]:
+    """(slab_start, slab_sphere) of ``state.Pairs`` from this build's ``cell_sort``: the
+    spheres in cell order (z slowest), so a slab is a run of whole cell layers along z.
+    The half stencil lists a pair under the sphere whose layer is the same or the one
+    below, so a pair's second sphere lies in its first sphere's slab or the next;
+    periodic along z with an odd number of layers, the last layer joins the one below
+    it, so that the last slab's pairs reaching across to slab 0 are made in the phase
+    that does not visit slab 0 (pair_forces ``direct``)."""
     n_layers = int(nc[2])
+    start = cell_start[::int(nc[0] * nc[1])].astype(np.int64)      # n_layers + 1 bounds
     if pax == 2 and n_layers % 2 == 1 and n_layers > 1:
-        layer = np.minimum(layer, n_layers - 2)
-        n_layers -= 1
-    order = np.argsort(layer, kind="stable").astype(np.int64)
-    start = np.zeros(n_layers + 1, np.int64)
-    start[1:] = np.cumsum(np.bincount(layer, minlength=n_layers))
-    return start, order
+        start = np.delete(start, n_layers - 1)
+    return start, order.astype(np.int64)
 
 
 def empty_wall_pairs(n: int, cap: int) -> WallPairs:
@@ -189,7 +186,7 @@ def rebuild(sim, first: bool = False, new_to_old: np.ndarray | None = None) -> N
     # pass 2 sums every transposed row: rows of open pairs must be zero; rows of
     # carried contacts are rewritten by the next pass 1 before pass 2 reads them
     new.pf[:total] = 0.0
-    slab_start, slab_sphere = slabs(cell, nc, pax)
+    slab_start, slab_sphere = slabs(cell_start, order, nc, pax)
     new = new._replace(slab_start=slab_start, slab_sphere=slab_sphere)
     sim._pair_bufs[1 - sim._cur] = new
     sim._cur = 1 - sim._cur

@@ -100,7 +100,7 @@ class Pairs(NamedTuple):
                       only the force on j and the normal force (columns 0-2, 6)
     slab_start: (nslab+1,) spheres of slab s (cell layers along z at the build, a
                       pair's second sphere in its first sphere's slab or the next one) at
-                      slab_sphere[slab_start[s]:slab_start[s+1]], increasing index
+                      slab_sphere[slab_start[s]:slab_start[s+1]], in cell order
     slab_sphere: (n,)
     """
 
