@@ -426,7 +426,8 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
     ``checkpoint(state)`` is called between readings every ``checkpoint_every_s`` of
     wall time (``CHECKPOINT_EVERY_S``) and each time another ``checkpoint_every_fraction``
     of the motion is done (``CHECKPOINT_EVERY_FRACTION``), after ``on_sample`` has taken
-    the reading, never after the last one; ``state`` is a dict of numpy arrays (save it
+    the reading, never after the last one, and once when the rest has ended (before the
+    first step of shaking); ``state`` is a dict of numpy arrays (save it
     with ``studies.store.npz_bytes``). ``resume=state`` (as saved, or loaded back)
     continues that run: the result is the uninterrupted run's bit for bit, its
     ``seconds`` the wall time of both parts."""
@@ -450,6 +451,13 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
     every = record_steps(case, main.dt)
     run = (_Progress.fresh(main, settled.readings[-1], snapshot_times) if resume is None
            else _Progress.resumed(resume, total, every))
+
+    def state() -> dict:
+        return (_engine_arrays(main, columns, bnds) | _rest_arrays(settled)
+                | run.arrays(key, total, every, time.perf_counter() - wall_clock, main.n_spheres))
+
+    if checkpoint is not None and resume is None:
+        checkpoint(state())         # the rest is ~a tenth of the shaking's steps: kept by a run stopped later
     last_checkpoint = time.perf_counter()
     step_of_marks = max(1, int(every_fraction * total))
     next_mark = (run.done // step_of_marks + 1) * step_of_marks
@@ -464,8 +472,7 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
         if checkpoint is not None and run.done < total and (time.perf_counter() - last_checkpoint > every_s
                                                             or run.done >= next_mark):
             next_mark = (run.done // step_of_marks + 1) * step_of_marks
-            checkpoint(_engine_arrays(main, columns, bnds) | _rest_arrays(settled)
-                       | run.arrays(key, total, every, time.perf_counter() - wall_clock, main.n_spheres))
+            checkpoint(state())
             last_checkpoint = time.perf_counter()
     return Shaken(np.array(run.times), np.array(run.base), run.readings, main.to_arrays(), run.done,
                   run.before + time.perf_counter() - wall_clock, tuple(run.snaps), settled)
