@@ -31,10 +31,25 @@ from dataclasses import MISSING, dataclass
 from .errors import InvalidParameter
 
 
+class _FromTheStart:
+    def __repr__(self) -> str:
+        return "FROM_THE_START"
+
+
+#: ``Spec.absent_means`` of a field its record has had from the start
+FROM_THE_START = _FromTheStart()
+
+
 @dataclass(frozen=True)
 class Spec:
     """What a field is: meaning (one line), unit ("-" for a ratio or a count, "" for a
-    word) and the range of a number or of each item of a list."""
+    word) and the range of a number or of each item of a list.
+
+    absent_means: for a field added after runs were made without it, the value those
+    runs had in effect: content keys leave the field out while it holds this value (so
+    the run folders and caches of earlier runs keep their names), and a saved case that
+    lacks the field (an earlier run's config.toml) reads as this value, not the default.
+    """
 
     meaning: str
     unit: str = "-"
@@ -43,6 +58,7 @@ class Spec:
     lo_open: bool = False
     hi_open: bool = False
     may_be_empty: bool = False
+    absent_means: object = FROM_THE_START
 
     def bounds_text(self) -> str:
         """'(0, 80) deg', '>= 50', or '' when unbounded."""
@@ -72,15 +88,42 @@ def _bound(x) -> str | None:
 
 
 def param(default=MISSING, *, meaning: str, unit: str = "-", lo: float | None = None, hi: float | None = None,
-          lo_open: bool = False, hi_open: bool = False, may_be_empty: bool = False, factory=MISSING):
+          lo_open: bool = False, hi_open: bool = False, may_be_empty: bool = False, factory=MISSING,
+          absent_means=FROM_THE_START):
     """A declared case field (``dataclasses.field`` with its ``Spec`` as metadata);
-    ``may_be_empty``: a list field that may hold nothing (``none`` on the command line)."""
-    spec = Spec(meaning, unit, lo, hi, lo_open, hi_open, may_be_empty)
+    ``may_be_empty``: a list field that may hold nothing (``none`` on the command line);
+    ``absent_means``: see ``Spec``."""
+    spec = Spec(meaning, unit, lo, hi, lo_open, hi_open, may_be_empty, absent_means)
     return dataclasses.field(default=default, default_factory=factory, metadata={"spec": spec})
 
 
 def spec_of(field: dataclasses.Field) -> Spec | None:
     return field.metadata.get("spec")
+
+
+def added_later(field: dataclasses.Field) -> bool:
+    """Whether the field declares what a record made before it existed had in effect."""
+    spec = spec_of(field)
+    return spec is not None and spec.absent_means is not FROM_THE_START
+
+
+def left_out_of_keys(record, field: dataclasses.Field) -> bool:
+    """Whether a content key of ``record`` leaves ``field`` out: a field added later,
+    holding what the records made before it had in effect."""
+    return added_later(field) and getattr(record, field.name) == spec_of(field).absent_means
+
+
+def as_before(record):
+    """``record`` with each field added later at what records made before it had in
+    effect (nested records too): the base a saved case without those fields is read on."""
+    changes = {}
+    for f in dataclasses.fields(record):
+        value = getattr(record, f.name)
+        if added_later(f):
+            changes[f.name] = spec_of(f).absent_means
+        elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+            changes[f.name] = as_before(value)
+    return dataclasses.replace(record, **changes) if changes else record
 
 
 def _hints(cls) -> dict:

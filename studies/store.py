@@ -20,15 +20,19 @@ from pathlib import Path
 
 import numpy as np
 
+from analytic.schema import left_out_of_keys
 
-def to_plain(obj):
-    """Dataclasses, numpy scalars/arrays and paths -> JSON/TOML-friendly Python values."""
+
+def to_plain(obj, *, for_key: bool = False):
+    """Dataclasses, numpy scalars/arrays and paths -> JSON/TOML-friendly Python values;
+    ``for_key``: without the fields a content key leaves out (``schema.left_out_of_keys``)."""
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: to_plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+        return {f.name: to_plain(getattr(obj, f.name), for_key=for_key) for f in dataclasses.fields(obj)
+                if not (for_key and left_out_of_keys(obj, f))}
     if isinstance(obj, dict):
-        return {str(k): to_plain(v) for k, v in obj.items()}
+        return {str(k): to_plain(v, for_key=for_key) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [to_plain(v) for v in obj]
+        return [to_plain(v, for_key=for_key) for v in obj]
     if isinstance(obj, np.ndarray):
         return to_plain(obj.tolist())
     if isinstance(obj, np.generic):
@@ -41,9 +45,10 @@ def to_plain(obj):
 
 
 def content_key(obj, length: int = 16) -> str:
-    """Hex SHA-256 of ``obj`` as sorted JSON (dataclasses and numpy values made plain),
-    cut to ``length`` characters."""
-    blob = json.dumps(to_plain(obj), sort_keys=True)
+    """Hex SHA-256 of ``obj`` as sorted JSON (dataclasses and numpy values made plain,
+    fields added later left out while they hold what earlier runs had), cut to
+    ``length`` characters."""
+    blob = json.dumps(to_plain(obj, for_key=True), sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:length]
 
 

@@ -19,6 +19,7 @@ from types import SimpleNamespace
 from typing import Any, Callable
 
 from analytic.errors import InvalidParameter
+from analytic.schema import as_before
 
 from .config import resolve_case, set_value
 from .registry import NAMES
@@ -103,7 +104,9 @@ class Command:
                 raise InvalidParameter("--resume", resume, "a run folder alone (no --config, --set or case flags)",
                                        "a resumed run keeps the settings it started with")
             config = _resume_config(resume, study)
-        return resolve_case(self.default_case(), config=config, flags=flags or {}, sets=sets or [],
+        # a config.toml written before a field was added lacks it: it meant what runs had then
+        base = as_before(self.default_case()) if resume is not None else self.default_case()
+        return resolve_case(base, config=config, flags=flags or {}, sets=sets or [],
                             flag_names=flag_names)
 
     def envelope(self, case, sources: dict[str, str] | None = None, opts: SimpleNamespace | None = None):

@@ -24,7 +24,7 @@ from analytic.errors import InvalidParameter
 from dem3d import Periodic, Simulation, Specimen, Wall, plane, settle
 from dem3d.freefield import FreeFieldBoundary, column_free_field, step_coupled
 
-from ..store import Store, content_key
+from ..store import Store, content_key, to_plain
 from . import specimen as M
 from .case import SeismicCase
 from .measures import WallReading, wall_reading
@@ -46,7 +46,7 @@ CHECKPOINT_EVERY_FRACTION = 0.1
 
 
 def static_key(case: SeismicCase) -> str:
-    d = dataclasses.asdict(case)
+    d = to_plain(case, for_key=True)
     return content_key({k: v for k, v in d.items() if k not in DYNAMIC_FIELDS} | {"scale": case.scale, "v": 5})
 
 
@@ -142,7 +142,8 @@ def _column_sim(case: SeismicCase, x, r, length) -> Simulation:
     law = M.contact_law(case, local_damping=0.7)
     spec = Specimen(x, r, -np.ones(len(r), np.int64), case.grain_density)
     sim = Simulation(spec, law, dt=M.time_step(case, law), walls=_column_walls(case),
-                     periodic=Periodic(0, 0.0, length), gravity=(0.0, 0.0, -case.gravity))
+                     periodic=Periodic(0, 0.0, length), gravity=(0.0, 0.0, -case.gravity),
+                     direct_sums=case.direct_sums)
     sim.attach_to_wall(np.nonzero(x[:, 2] - r < 0.1 * case.d_mean)[0], "base")
     return sim
 
@@ -286,7 +287,7 @@ def _restore_boundary(b: FreeFieldBoundary, arrays: dict) -> None:
 def checkpoint_key(case: SeismicCase, fraction: float, snapshot_times) -> str:
     """What a checkpoint of ``shake`` belongs to: the case, the fraction of the motion and
     the snapshot times (a resume with any other would not continue the same run)."""
-    return content_key({"case": dataclasses.asdict(case), "fraction": float(fraction),
+    return content_key({"case": case, "fraction": float(fraction),
                         "snapshots": sorted(float(t) for t in snapshot_times), "v": 2})
 
 
@@ -414,6 +415,27 @@ def _engine_arrays(main, columns, bnds) -> dict:
     return out
 
 
+class _CheckpointsDue:
+    """When the shaking hands over a checkpoint: ``every_s`` of wall time after the last
+    one (``CHECKPOINT_EVERY_S``), or as the steps done pass another ``every_fraction`` of
+    ``total`` (``CHECKPOINT_EVERY_FRACTION``)."""
+
+    def __init__(self, every_s: float | None, every_fraction: float | None, total: int, done: int):
+        self.every_s = CHECKPOINT_EVERY_S if every_s is None else float(every_s)
+        fraction = CHECKPOINT_EVERY_FRACTION if every_fraction is None else float(every_fraction)
+        self.step_of_marks = max(1, int(fraction * total))
+        self.next_mark = (done // self.step_of_marks + 1) * self.step_of_marks
+        self.last = time.perf_counter()
+
+    def __call__(self, done: int) -> bool:
+        """Whether one is due after ``done`` steps (if so, the next is counted from now)."""
+        if time.perf_counter() - self.last <= self.every_s and done < self.next_mark:
+            return False
+        self.next_mark = (done // self.step_of_marks + 1) * self.step_of_marks
+        self.last = time.perf_counter()
+        return True
+
+
 def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
           on_sample: Callable | None = None, snapshot_times: tuple = (),
           checkpoint: Callable[[dict], None] | None = None, resume: dict | None = None,
@@ -432,9 +454,6 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
     continues that run: the result is the uninterrupted run's bit for bit, its
     ``seconds`` the wall time of both parts."""
     wall_clock = time.perf_counter()
-    every_s = CHECKPOINT_EVERY_S if checkpoint_every_s is None else float(checkpoint_every_s)
-    every_fraction = (CHECKPOINT_EVERY_FRACTION if checkpoint_every_fraction is None
-                      else float(checkpoint_every_fraction))
     key = checkpoint_key(case, fraction, snapshot_times)
     if resume is not None and str(resume.get("shake/key", "")) != key:
         raise InvalidParameter("resume", "a checkpoint of another run", "a checkpoint of this case, fraction and "
@@ -458,9 +477,7 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
 
     if checkpoint is not None and resume is None:
         checkpoint(state())         # the rest is ~a tenth of the shaking's steps: kept by a run stopped later
-    last_checkpoint = time.perf_counter()
-    step_of_marks = max(1, int(every_fraction * total))
-    next_mark = (run.done // step_of_marks + 1) * step_of_marks
+    due = _CheckpointsDue(checkpoint_every_s, checkpoint_every_fraction, total, run.done)
     while run.done < total:
         k = min(every, total - run.done)
         step_coupled(main, bnds, k, free_field=free_field, columns=columns, every=case.free_field_every)
@@ -469,10 +486,7 @@ def shake(case: SeismicCase, prepared: Prepared, *, fraction: float = 1.0,
         if on_sample is not None:
             on_sample(main, run.readings[-1], run.times[-1], run.base[-1], run.done, total)
         # after the consumer has taken this reading, so a checkpoint holds it too
-        if checkpoint is not None and run.done < total and (time.perf_counter() - last_checkpoint > every_s
-                                                            or run.done >= next_mark):
-            next_mark = (run.done // step_of_marks + 1) * step_of_marks
+        if checkpoint is not None and run.done < total and due(run.done):
             checkpoint(state())
-            last_checkpoint = time.perf_counter()
     return Shaken(np.array(run.times), np.array(run.base), run.readings, main.to_arrays(), run.done,
                   run.before + time.perf_counter() - wall_clock, tuple(run.snaps), settled)

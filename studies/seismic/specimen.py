@@ -133,7 +133,8 @@ def rain_deposit(case: SeismicCase, rng: np.random.Generator, lo, hi, height: fl
     rain = _deposition_law(case, case.softening, case.deposition_friction, 0.0)
     period = Periodic(ax, float(lo[ax]), float(hi[ax] - lo[ax]))
     g = (0.0, 0.0, -case.gravity)
-    sim = Simulation(spec, rain, dt=time_step(case, rain, bonds=False), walls=walls, periodic=period, gravity=g)
+    sim = Simulation(spec, rain, dt=time_step(case, rain, bonds=False), walls=walls, periodic=period, gravity=g,
+                     direct_sums=case.direct_sums)
     fall = math.sqrt(2.0 * gen_hi[2] / case.gravity) / sim.dt        # steps of a free fall from the top
     res1 = settle(sim, ratio=case.settle_ratio, energy=settle_energy(case, n, case.rain_energy),
                   max_steps=int(4 * fall),
@@ -291,7 +292,8 @@ def build_main(case: SeismicCase, model: Model, *, local_damping: float = 0.7, w
     law = contact_law(case, local_damping=local_damping)
     spec = Specimen(model.positions, model.radii, -np.ones(len(model.radii), np.int64), case.grain_density)
     sim = Simulation(spec, law, dt=time_step(case, law), walls=walls or boundary_walls(case),
-                     periodic=Periodic(1, 0.0, case.width), gravity=(0.0, 0.0, -case.gravity))
+                     periodic=Periodic(1, 0.0, case.width), gravity=(0.0, 0.0, -case.gravity),
+                     direct_sums=case.direct_sums)
     sim.set_density(model.wall, wall_ball_density(case))
     prm = calibrate_strip(wall_youngs_effective(case), 2.0 * case.wall_ball)
     sim.make_bonds(1e-3 * case.wall_ball, kn=prm.kn, ks=prm.ks, spheres=model.wall)

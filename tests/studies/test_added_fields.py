@@ -1,0 +1,61 @@
+"""A case field added after runs were made without it (``param(absent_means=...)``):
+those runs keep their folders, caches and report records, and an interrupted one
+resumes as it started. Checked on the seismic case's ``direct_sums`` (added in issue 42;
+the runs before it gathered the second sphere's rows, ``direct_sums`` false) against the
+run-folder names that docs/validation/seismic.json records for the medium 1 and 5 Hz
+runs, made before the field existed."""
+
+import dataclasses
+import json
+from pathlib import Path
+
+from analytic.schema import param
+from studies import get
+from studies.runfolder import config_toml
+from studies.seismic.case import SeismicCase
+from studies.seismic.validate import run_name
+from studies.store import content_key
+
+REPORT = Path(__file__).parents[2] / "docs" / "validation" / "seismic.json"
+
+
+def test_runs_made_before_the_field_keep_their_folder_names():
+    """The medium records' run folders (named by the content key of every case field
+    then) are the names of today's case with ``direct_sums`` false; the default (true)
+    names other folders."""
+    medium = json.loads(REPORT.read_text())["other_resolutions"]["medium"]["frequencies"]
+    for f in ("1", "5"):
+        folder = Path(medium[f]["extra"]["run_folder"]).name
+        case = SeismicCase(resolution="medium", frequency=float(f))
+        assert run_name(dataclasses.replace(case, direct_sums=False)) == folder
+        assert run_name(case) != folder
+
+
+@dataclasses.dataclass(frozen=True)
+class Before:
+    height: float = param(3.1, unit="m", meaning="wall height")
+
+
+@dataclasses.dataclass(frozen=True)
+class After:
+    height: float = param(3.1, unit="m", meaning="wall height")
+    fast: bool = param(True, unit="", absent_means=False, meaning="added later")
+
+
+def test_the_key_leaves_an_added_field_out_only_at_its_earlier_value():
+    assert content_key(After(fast=False)) == content_key(Before())
+    assert content_key(After()) != content_key(Before())
+    assert content_key({"case": After(height=2.0, fast=False)}) == content_key({"case": Before(height=2.0)})
+
+
+def test_a_config_written_before_the_field_resumes_as_it_started(tmp_path):
+    """An interrupted run's config.toml without the field reads as ``absent_means``
+    (false), not the default (true): the resumed run is the one that started."""
+    started = SeismicCase(resolution="medium", frequency=3.0, direct_sums=False)
+    text = "\n".join(line for line in config_toml(started).splitlines() if not line.startswith("direct_sums"))
+    assert "direct_sums" not in text
+    folder = tmp_path / "seismic" / run_name(started)
+    folder.mkdir(parents=True)
+    (folder / "config.toml").write_text(text + "\n")
+    case = get("seismic").command().resolve(resume=str(folder), study="seismic")
+    assert case == started
