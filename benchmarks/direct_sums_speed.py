@@ -39,7 +39,7 @@ def seismic_models(cache: Path):
     from studies.seismic.case import SeismicCase
     from studies.seismic.run import coupled, prepare
 
-    case = SeismicCase()
+    case = SeismicCase(direct_sums=False)        # the rows' static state (the mode is set on each engine below)
     prepared = prepare(case, cache)
     models = {}
     for mode in ("rows", "direct"):

@@ -113,7 +113,7 @@ def main() -> None:
     from studies.seismic.case import SeismicCase
     from studies.seismic.run import coupled, prepare
 
-    case = SeismicCase()
+    case = SeismicCase(direct_sums=False)        # the rows layout the variants below read
     sim, _, _, _ = coupled(case, prepare(case, args.cache))
     sim._rebuild()                 # a cached state may predate the slabs the direct sums need
     sim.step(50)
