@@ -131,7 +131,8 @@ def triaxial(case: SeismicCase, *, confining: float = 70e3, particles: int = 200
     servo = [ServoVelocity() for _ in range(6)]
     law = M.contact_law(case, local_damping=0.7)
     dt = M.time_step(case, law, bonds=False)
-    sim = dem3d.Simulation(spec, law, dt=dt, walls=platen_walls(side0, servo), gravity=(0.0, 0.0, 0.0))
+    sim = dem3d.Simulation(spec, law, dt=dt, walls=platen_walls(side0, servo), gravity=(0.0, 0.0, 0.0),
+                           direct_sums=case.direct_sums)
     cell = ServoCell(sim, servo, hertz_stiffness(case, confining), case.d_mean, dt)
     target = np.full(6, confining)
     for it in range(100_000 // chunk):
