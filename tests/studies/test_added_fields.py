@@ -59,3 +59,19 @@ def test_a_config_written_before_the_field_resumes_as_it_started(tmp_path):
     (folder / "config.toml").write_text(text + "\n")
     case = get("seismic").command().resolve(resume=str(folder), study="seismic")
     assert case == started
+
+
+def test_the_report_says_how_each_resolution_summed_its_contacts():
+    """seismic.json (written before the field: every block read as rows) rendered as if
+    its default resolution had been run with direct sums: the header says so and the
+    resolution section says the two also differ in the order of sums."""
+    from studies.seismic import validate as V
+
+    rep = json.loads(REPORT.read_text())
+    assert "contact_sums" not in rep and V.block_sums(rep) == "rows"
+    assert V.SUMS_TEXT["rows"] in V.report_markdown(rep)
+    assert "another order" not in V.report_markdown(rep)
+    rep["contact_sums"] = V.contact_sums(SeismicCase())
+    md = V.report_markdown(rep)
+    assert V.SUMS_TEXT["direct"] in md
+    assert "coarse: direct, medium: rows" in md
