@@ -17,7 +17,6 @@ Layout (one folder per run)::
 from __future__ import annotations
 
 import csv
-import fcntl
 import io
 import json
 import math
@@ -130,38 +129,6 @@ def _earlier_sessions(path: Path) -> list[dict]:
              "wall_time_s": old.get("wall_time_s", 0.0), "cpu_time_s": old.get("cpu_time_s", 0.0)}]
 
 
-#: run folders this process writes (resolved path -> an open descriptor of the folder
-#: holding its lock); the same process may open a folder again (a run resumed in one session)
-_HELD: dict[Path, int] = {}
-
-
-def hold(path: Path) -> None:
-    """Take the run folder for this process: an exclusive lock on the folder (flock, which
-    the system releases when the process ends, however it ends), so two processes never
-    write one run (the same validate command started twice resumes one folder twice); a
-    one-line refusal when another process holds it."""
-    from analytic.errors import InvalidParameter
-    key = path.resolve()
-    if key in _HELD:
-        return
-    fd = os.open(key, os.O_RDONLY)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        os.close(fd)
-        raise InvalidParameter("run folder", str(path), "a folder no other process is writing",
-                               "another process is running this run now; let it finish or stop it") from None
-    _HELD[key] = fd
-
-
-def release(path: Path) -> None:
-    """Let the run folder go (its run has finished), so a process making many runs does
-    not keep a descriptor for each."""
-    fd = _HELD.pop(Path(path).resolve(), None)
-    if fd is not None:
-        os.close(fd)          # closing the last descriptor releases the lock
-
-
 class RunFolder:
     """A run's output folder. Created on construction; every writer returns the path."""
 
@@ -172,7 +139,6 @@ class RunFolder:
         else:
             stem = time.strftime('%Y%m%d-%H%M%S') + (f"-seed{seed}" if seed is not None else "")
             self.path = _new_folder(Path(root) / case, stem)
-        hold(self.path)
         self.case = case
         self.seed = seed
         self._start_clocks()
@@ -185,7 +151,6 @@ class RunFolder:
         path = Path(path)
         if not (path / "config.toml").exists():
             raise InvalidParameter("--resume", str(path), "a run folder with a config.toml")
-        hold(path)
         self = cls.__new__(cls)
         self.path = path
         self.case = path.parent.name

@@ -21,7 +21,7 @@ from typing import Callable
 
 import reproducibility
 
-from .runfolder import RunFolder, release
+from .runfolder import RunFolder
 
 
 @dataclass
@@ -111,8 +111,6 @@ def command_envelope(sources: dict[str, str] | None = None, note: Callable[[dict
         env.discard_empty()
         raise
     finally:
-        for path, _ in env.opened:          # ended, however: another process may take them
-            release(path)
         if options is not None:
             _options.reset(options)
         _envelope.reset(token)
@@ -255,7 +253,6 @@ def finish(folder: RunFolder, result: dict, *, main: bool = True, **manifest) ->
     folder.note_used(used_settings(result))
     folder.write_manifest(**manifest)
     folder.write_json("result.json", result)
-    release(folder.path)
 
 
 class Stopwatch:

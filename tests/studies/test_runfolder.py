@@ -2,7 +2,6 @@
 revision when the run started, not whatever HEAD is when a long run ends."""
 
 import json
-from pathlib import Path
 
 import studies.runfolder as runfolder
 
@@ -35,37 +34,3 @@ def test_runs_started_in_the_same_second_get_their_own_folders(tmp_path, monkeyp
     named = runfolder.RunFolder("case", 1, root=tmp_path, name="mine")
     again = runfolder.RunFolder("case", 1, root=tmp_path, name="mine")  # an explicit name is reused
     assert named.path == again.path
-
-
-def test_a_run_folder_is_written_by_one_process_at_a_time(tmp_path):
-    """A second process opening a run folder that another is running is refused in one
-    line naming the folder (two processes resuming one validate run would overwrite each
-    other's checkpoints); once the holder has finished (runner.finish releases the folder),
-    or has died, the folder opens again."""
-    import subprocess
-    import sys
-
-    import pytest
-
-    from analytic.errors import InvalidParameter
-    from studies.runfolder import RunFolder, release
-
-    folder = tmp_path / "seismic" / "validate-5Hz-x"
-    folder.mkdir(parents=True)
-    (folder / "config.toml").write_text("")
-    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\nfrom studies.runfolder import RunFolder\n"
-                               f"RunFolder.existing({str(folder)!r})\nprint('held', flush=True)\ntime.sleep(60)"],
-                              stdout=subprocess.PIPE, text=True, cwd=Path(__file__).parents[2])
-    try:
-        assert holder.stdout.readline().strip() == "held"
-        with pytest.raises(InvalidParameter) as err:
-            RunFolder.existing(folder)
-        assert str(folder) in str(err.value) and "\n" not in str(err.value)
-        with pytest.raises(InvalidParameter):
-            RunFolder("seismic", 1, root=tmp_path, name="validate-5Hz-x")
-    finally:
-        holder.kill()
-        holder.wait()
-    again = RunFolder.existing(folder)              # the holder died: the system let the lock go
-    assert RunFolder.existing(folder).path == again.path    # the same process may open it again
-    release(folder)
