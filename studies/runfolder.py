@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import csv
 import io
+import threading
 import json
 import math
 import os
@@ -26,6 +27,7 @@ import socket
 import subprocess
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -127,6 +129,83 @@ def _earlier_sessions(path: Path) -> list[dict]:
         return list(old["sessions"])
     return [{"command": old.get("command", "?"), "started": old.get("created", "?"), "git": old.get("git", "?"),
              "wall_time_s": old.get("wall_time_s", 0.0), "cpu_time_s": old.get("cpu_time_s", 0.0)}]
+
+
+try:
+    import fcntl
+except ImportError:             # not a POSIX system: runs are not guarded against each other
+    fcntl = None
+
+#: run-folder locks this process holds: lock file -> [descriptor, holds]
+_CLAIMS: dict[Path, list] = {}
+_CLAIMS_GUARD = threading.Lock()
+
+
+def lock_file(folder: Path) -> Path:
+    """The lock of run folder ``<root>/<study>/<name>``: ``<root>/.locks/<study>/<name>``,
+    outside the folder (a folder removed and made again keeps its lock) and out of the
+    study's listing. Never removed: a process opening it as another removed it could
+    lock a file that a third then makes again."""
+    folder = Path(folder)
+    return folder.parent.parent / ".locks" / folder.parent.name / folder.name
+
+
+def claim(folder: Path) -> Path | None:
+    """Take run folder ``folder`` for this process before reading, resuming or removing
+    it: an exclusive lock (flock) on ``lock_file(folder)``, which the system lets go when
+    the process ends, however it ends. Another process holding it: a one-line refusal
+    (two processes on one run would overwrite each other's checkpoints and tables). The
+    same process may claim it again (counted). Where no lock can be taken (no fcntl, a
+    read-only place, a file system without locks) the run goes on unguarded. Returns the
+    key to ``unclaim`` (None: nothing held)."""
+    if fcntl is None:
+        return None
+    key = lock_file(folder).absolute()
+    with _CLAIMS_GUARD:
+        if key in _CLAIMS:
+            _CLAIMS[key][1] += 1
+            return key
+        try:
+            key.parent.mkdir(parents=True, exist_ok=True)
+            fd = os.open(key, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError:
+            return None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            from analytic.errors import InvalidParameter
+            raise InvalidParameter("run folder", str(folder), "a run no other process is running",
+                                   "another wallsim process is running it now; let it finish or stop it") from None
+        except OSError:
+            os.close(fd)
+            return None
+        _CLAIMS[key] = [fd, 1]
+        return key
+
+
+def unclaim(key: Path | None) -> None:
+    """Give back one hold of ``claim``'s ``key``; the last one lets the folder go."""
+    if key is None:
+        return
+    with _CLAIMS_GUARD:
+        held = _CLAIMS.get(key)
+        if held is None:
+            return
+        held[1] -= 1
+        if held[1] == 0:
+            os.close(held[0])
+            del _CLAIMS[key]
+
+
+@contextmanager
+def claimed(folder: Path):
+    """``claim(folder)`` for the block."""
+    key = claim(folder)
+    try:
+        yield
+    finally:
+        unclaim(key)
 
 
 class RunFolder:

@@ -21,7 +21,7 @@ from typing import Callable
 
 import reproducibility
 
-from .runfolder import RunFolder
+from .runfolder import RunFolder, claim, unclaim
 
 
 @dataclass
@@ -31,11 +31,13 @@ class Envelope:
     sources:  where each non-default setting came from (config.toml's notes)
     note:     result -> the reduced-size line of the command's main run, or None
     opened:   (folder, created by this command) of every run folder opened, in order
+    claims:   the locks of the named and resumed run folders it opened (``runfolder.claim``)
     """
 
     sources: dict[str, str] = field(default_factory=dict)
     note: Callable[[dict], str | None] | None = None
     opened: list[tuple[Path, bool]] = field(default_factory=list)
+    claims: list = field(default_factory=list)
     clocks: tuple[float, float] = field(default_factory=lambda: (time.perf_counter(), time.process_time()))
 
     @property
@@ -111,6 +113,8 @@ def command_envelope(sources: dict[str, str] | None = None, note: Callable[[dict
         env.discard_empty()
         raise
     finally:
+        for key in env.claims:
+            unclaim(key)
         if options is not None:
             _options.reset(options)
         _envelope.reset(token)
@@ -179,6 +183,9 @@ def open_run_folder(study: str, case, root: str | Path, *, resume: str | Path | 
     name = name if name is not None else _run_name.get()
     seed = seed if seed is not None else getattr(case, "seed", None)
     env = _envelope.get()
+    if env is not None and (resume is not None or name is not None):
+        # a folder found again by name or resumed: one process at a time (the command's)
+        env.claims.append(claim(Path(resume) if resume is not None else Path(root) / study / name))
     if resume is not None:
         refuse_new_recording(resume, bool((_options.get() or {}).get("vtk")))
         folder = RunFolder.existing(resume, seed=seed)

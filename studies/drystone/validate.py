@@ -23,7 +23,7 @@ from pathlib import Path
 
 import reproducibility
 
-from ..runfolder import git_revision, package_versions
+from ..runfolder import claimed, git_revision, package_versions
 
 from ..runner import finished_result, reusing_line
 from ..store import atomic_write, content_key, to_plain
@@ -60,23 +60,24 @@ def dem_run(case: DrystoneCase, what: str, root: Path, *, figures: bool = False,
     from ..runner import finish, open_recording, open_run_folder
 
     folder = run_folder(case, what, root)
-    done = finished_result(folder)
-    if done is not None:
-        if log:
-            log(reusing_line(folder))
-        return done
-    if folder.exists():
-        shutil.rmtree(folder)
-    rf = open_run_folder("drystone", case, root, name=folder.name, seed=None)
-    rec = open_recording(None, study="drystone", recording_id=f"drystone-{case.wall}", dim=2, folder=rf)
-    wall, res, seconds, cpu = run_dem(case, on_increment=increment_logger(rec))
-    rec.close()
-    r = wall_result(case, wall, res, seconds, cpu) | {"run_folder": str(rf.path)}
-    if figures:
-        _wall_figures(case, r, res, rf.path)
-    finish(rf, r, main=False, particles=wall.block_count, steps=res.steps, dt_s=case.dt, iterations=case.iterations,
-           contact=r["contact"], wall_time_s=seconds, cpu_time_s=cpu, assumptions=r["assumptions"])
-    return finished_result(folder)
+    with claimed(folder):
+        done = finished_result(folder)
+        if done is not None:
+            if log:
+                log(reusing_line(folder))
+            return done
+        if folder.exists():
+            shutil.rmtree(folder)
+        rf = open_run_folder("drystone", case, root, name=folder.name, seed=None)
+        rec = open_recording(None, study="drystone", recording_id=f"drystone-{case.wall}", dim=2, folder=rf)
+        wall, res, seconds, cpu = run_dem(case, on_increment=increment_logger(rec))
+        rec.close()
+        r = wall_result(case, wall, res, seconds, cpu) | {"run_folder": str(rf.path)}
+        if figures:
+            _wall_figures(case, r, res, rf.path)
+        finish(rf, r, main=False, particles=wall.block_count, steps=res.steps, dt_s=case.dt, iterations=case.iterations,
+               contact=r["contact"], wall_time_s=seconds, cpu_time_s=cpu, assumptions=r["assumptions"])
+        return finished_result(folder)
 
 
 def run_folder(case: DrystoneCase, what: str, root: Path) -> Path:

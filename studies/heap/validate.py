@@ -18,7 +18,7 @@ import numpy as np
 
 import reproducibility
 
-from ..runfolder import git_revision, package_versions
+from ..runfolder import claimed, git_revision, package_versions
 from ..runner import finished_result, named_run, reusing_line
 from ..store import content_key, read_report
 from .compare import ASSUMPTIONS, compare_heap, slope_text
@@ -55,19 +55,20 @@ def seed_run(case: HeapCase, *, root: Path, record: bool = False, progress=None,
     interrupted run continues from its checkpoint, a folder without one is removed first
     and the seed run afresh."""
     folder = Path(root) / "heap" / run_name(case)
-    done = finished_result(folder)
-    if done is not None:
-        log(reusing_line(folder))
-        return done
-    if (folder / "config.toml").is_file() and (folder / "checkpoints" / "heap.npz").is_file():
-        log(f"resuming interrupted run {folder}")
-        compare_heap(case, root=root, record=record, progress=progress, resume=folder)
+    with claimed(folder):
+        done = finished_result(folder)
+        if done is not None:
+            log(reusing_line(folder))
+            return done
+        if (folder / "config.toml").is_file() and (folder / "checkpoints" / "heap.npz").is_file():
+            log(f"resuming interrupted run {folder}")
+            compare_heap(case, root=root, record=record, progress=progress, resume=folder)
+            return finished_result(folder)
+        if folder.exists():
+            shutil.rmtree(folder)
+        with named_run(folder.name):
+            compare_heap(case, root=root, record=record, progress=progress)
         return finished_result(folder)
-    if folder.exists():
-        shutil.rmtree(folder)
-    with named_run(folder.name):
-        compare_heap(case, root=root, record=record, progress=progress)
-    return finished_result(folder)
 
 
 def write_report(case: HeapCase, runs: list[dict], out_dir: Path) -> dict:

@@ -31,7 +31,7 @@ from studies.khosravi.case import KhosraviCase
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.report import theory_row
-from studies.runfolder import RunFolder, package_versions
+from studies.runfolder import RunFolder, claimed, package_versions
 from studies.runner import (Stopwatch, drop_checkpoint, finish, finished_result, open_recording, open_run_folder,
                             reusing_line)
 from studies.store import Store, atomic_write, content_key, to_plain
@@ -423,16 +423,17 @@ def validation_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool
     The result is read back from result.json either way, so a report is the same from a
     new run, a resumed one or a finished one."""
     folder = Path(root) / "khosravi" / f"validate-translation-{content_key(case)}"
-    if finished_result(folder) is not None:
-        log(reusing_line(folder))
-    elif (folder / "config.toml").is_file():
-        log(f"resuming interrupted run {folder}")
-        compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, resume=folder)
-    else:
-        if folder.exists():
-            shutil.rmtree(folder)       # not even its config was written: nothing to resume
-        compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, name=folder.name)
-    return finished_result(folder), RunFolder.existing(folder, seed=case.seed)
+    with claimed(folder):
+        if finished_result(folder) is not None:
+            log(reusing_line(folder))
+        elif (folder / "config.toml").is_file():
+            log(f"resuming interrupted run {folder}")
+            compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, resume=folder)
+        else:
+            if folder.exists():
+                shutil.rmtree(folder)       # not even its config was written: nothing to resume
+            compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, name=folder.name)
+        return finished_result(folder), RunFolder.existing(folder, seed=case.seed)
 
 
 def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool = False,
@@ -443,10 +444,11 @@ def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: boo
     folder held removed first."""
     from .backfilling import backfilling_name, run_backfilling
     folder = Path(root) / "khosravi" / backfilling_name(case)
-    if finished_result(folder) is not None:
-        log(reusing_line(folder))
-    else:
-        if folder.exists():
-            shutil.rmtree(folder)
-        run_backfilling(case, root=root, quiet=quiet)
-    return finished_result(folder), RunFolder.existing(folder, seed=case.seed)
+    with claimed(folder):
+        if finished_result(folder) is not None:
+            log(reusing_line(folder))
+        else:
+            if folder.exists():
+                shutil.rmtree(folder)
+            run_backfilling(case, root=root, quiet=quiet)
+        return finished_result(folder), RunFolder.existing(folder, seed=case.seed)

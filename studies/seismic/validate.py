@@ -27,7 +27,7 @@ import numpy as np
 
 import reproducibility
 
-from ..runfolder import git_revision, package_versions
+from ..runfolder import claimed, git_revision, package_versions
 from ..runner import finished_result, named_run, reusing_line
 from ..store import content_key
 from .case import PAPER_FREQUENCIES, SeismicCase
@@ -91,17 +91,18 @@ def frequency_run(case: SeismicCase, *, root: Path, record: bool = False, progre
     config.toml is ``case``), else run afresh there."""
     from .compare import compare_seismic
     folder = Path(root) / "seismic" / run_name(case)
-    if finished_result(folder) is not None:
-        log(reusing_line(folder))
+    with claimed(folder):
+        if finished_result(folder) is not None:
+            log(reusing_line(folder))
+            return folder
+        resume = folder if (folder / "config.toml").is_file() else None
+        if resume is not None:
+            log(f"resuming unfinished run {folder}")
+        elif folder.exists():
+            shutil.rmtree(folder)           # not even its config was written: nothing to resume
+        with named_run(folder.name):
+            compare_seismic(case, root=root, record=record, progress=progress, resume=resume)
         return folder
-    resume = folder if (folder / "config.toml").is_file() else None
-    if resume is not None:
-        log(f"resuming unfinished run {folder}")
-    elif folder.exists():
-        shutil.rmtree(folder)           # not even its config was written: nothing to resume
-    with named_run(folder.name):
-        compare_seismic(case, root=root, record=record, progress=progress, resume=resume)
-    return folder
 
 
 def stood_before_shaking(series: dict, ramp_s: float, wall_length_m: float) -> tuple[bool, str]:

@@ -1,7 +1,9 @@
-"""Provenance: a run folder's manifest names the code the run imported, i.e. the git
-revision when the run started, not whatever HEAD is when a long run ends."""
+"""Run folders: the manifest names the code the run imported (the git
+revision when the run started, not whatever HEAD is when a long run ends), and one
+process at a time runs a named or resumed folder."""
 
 import json
+from pathlib import Path
 
 import studies.runfolder as runfolder
 
@@ -34,3 +36,50 @@ def test_runs_started_in_the_same_second_get_their_own_folders(tmp_path, monkeyp
     named = runfolder.RunFolder("case", 1, root=tmp_path, name="mine")
     again = runfolder.RunFolder("case", 1, root=tmp_path, name="mine")  # an explicit name is reused
     assert named.path == again.path
+
+
+def _holder(folder: Path):
+    """A second process that claims ``folder`` and waits (killed by the caller)."""
+    import subprocess
+    import sys
+    p = subprocess.Popen([sys.executable, "-c", "import time\nfrom studies.runfolder import claim\n"
+                          f"claim({str(folder)!r})\nprint('held', flush=True)\ntime.sleep(120)"],
+                         stdout=subprocess.PIPE, text=True, cwd=Path(__file__).parents[2])
+    assert p.stdout.readline().strip() == "held"
+    return p
+
+
+def test_a_run_folder_is_run_by_one_process_at_a_time(tmp_path):
+    """While another process runs a named validation run (it holds the folder's lock),
+    the same validation started again is refused in one line naming the folder, before
+    it removes or resumes anything (the seismic driver removes a folder without a
+    config.toml: here it must not); once the holder is gone (killed: the system lets the
+    lock go) the folder is claimed again, and one process may claim it twice."""
+    import pytest
+
+    from analytic.errors import InvalidParameter
+    from studies.runfolder import claim, lock_file, unclaim
+    from studies.seismic.case import SeismicCase
+    from studies.seismic.validate import frequency_run, run_name
+    from tests.studies.test_seismic import TINY
+
+    case = SeismicCase(**TINY)
+    folder = tmp_path / "seismic" / run_name(case)
+    folder.mkdir(parents=True)
+    (folder / "partial.txt").write_text("the other process's work")
+    holder = _holder(folder)
+    try:
+        with pytest.raises(InvalidParameter) as err:
+            frequency_run(case, root=tmp_path, log=lambda s: None)
+        assert str(folder) in str(err.value) and "\n" not in str(err.value)
+        assert (folder / "partial.txt").is_file()
+    finally:
+        holder.kill()
+        holder.wait()
+    first, second = claim(folder), claim(folder)
+    assert first == second == lock_file(folder).absolute()
+    unclaim(first)
+    unclaim(second)
+    holder = _holder(folder)         # let go: another process takes it
+    holder.kill()
+    holder.wait()
