@@ -146,7 +146,7 @@ def lock_file(folder: Path) -> Path:
     outside the folder (a folder removed and made again keeps its lock) and out of the
     study's listing. Never removed: a process opening it as another removed it could
     lock a file that a third then makes again."""
-    folder = Path(folder)
+    folder = Path(folder).resolve()       # one lock however the path was typed (relative, "..", a link)
     return folder.parent.parent / ".locks" / folder.parent.name / folder.name
 
 
@@ -160,14 +160,14 @@ def claim(folder: Path) -> Path | None:
     key to ``unclaim`` (None: nothing held)."""
     if fcntl is None:
         return None
-    key = lock_file(folder).absolute()
+    key = lock_file(folder)
     with _CLAIMS_GUARD:
         if key in _CLAIMS:
             _CLAIMS[key][1] += 1
             return key
         try:
             key.parent.mkdir(parents=True, exist_ok=True)
-            fd = os.open(key, os.O_RDWR | os.O_CREAT, 0o666)
+            fd = os.open(key, os.O_RDONLY | os.O_CREAT, 0o666)      # flock needs no write access
         except OSError:
             return None
         try:
@@ -206,6 +206,14 @@ def claimed(folder: Path):
         yield
     finally:
         unclaim(key)
+
+
+def claimed_unless_finished(folder: Path):
+    """``claimed(folder)``, or nothing for a folder that holds a finished run (result.json:
+    read, never written again, so a run finished in another process's command is read
+    while that command goes on)."""
+    from contextlib import nullcontext
+    return nullcontext() if (Path(folder) / "result.json").is_file() else claimed(folder)
 
 
 class RunFolder:

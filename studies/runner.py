@@ -21,7 +21,7 @@ from typing import Callable
 
 import reproducibility
 
-from .runfolder import RunFolder, claim, unclaim
+from .runfolder import RunFolder, claim, lock_file, unclaim
 
 
 @dataclass
@@ -260,6 +260,9 @@ def finish(folder: RunFolder, result: dict, *, main: bool = True, **manifest) ->
     folder.note_used(used_settings(result))
     folder.write_manifest(**manifest)
     folder.write_json("result.json", result)
+    if env is not None and (key := lock_file(folder.path)) in env.claims:
+        env.claims.remove(key)      # finished: read from now on, by any process
+        unclaim(key)
 
 
 class Stopwatch:

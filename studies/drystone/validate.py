@@ -23,7 +23,7 @@ from pathlib import Path
 
 import reproducibility
 
-from ..runfolder import claimed, git_revision, package_versions
+from ..runfolder import claimed_unless_finished, git_revision, package_versions
 
 from ..runner import finished_result, reusing_line
 from ..store import atomic_write, content_key, to_plain
@@ -60,7 +60,7 @@ def dem_run(case: DrystoneCase, what: str, root: Path, *, figures: bool = False,
     from ..runner import finish, open_recording, open_run_folder
 
     folder = run_folder(case, what, root)
-    with claimed(folder):
+    with claimed_unless_finished(folder):
         done = finished_result(folder)
         if done is not None:
             if log:

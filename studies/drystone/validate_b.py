@@ -20,7 +20,7 @@ from pathlib import Path
 
 import reproducibility
 
-from ..runfolder import config_toml, git_revision, package_versions
+from ..runfolder import claimed, config_toml, git_revision, package_versions
 
 from ..store import atomic_write, to_plain
 from .case import ACCURACY_LIMIT_PERCENT, WALLS_B, DrystoneCase
@@ -65,7 +65,8 @@ def run_wall(case: DrystoneCase, root: Path, log=None, run_missing: bool = True)
     if interrupted is not None:
         if log:
             log(f"{tag}: resuming the interrupted run in {interrupted}")
-        _, folder = compare_backfill(case, root=root, record=True, resume=interrupted)
+        with claimed(interrupted):
+            _, folder = compare_backfill(case, root=root, record=True, resume=interrupted)
     elif folder is None:
         if log:
             log(f"{tag}: running (35-65 min of one core at full size)")

@@ -18,7 +18,7 @@ import numpy as np
 
 import reproducibility
 
-from ..runfolder import claimed, git_revision, package_versions
+from ..runfolder import claimed_unless_finished, git_revision, package_versions
 from ..runner import finished_result, named_run, reusing_line
 from ..store import content_key, read_report
 from .compare import ASSUMPTIONS, compare_heap, slope_text
@@ -55,7 +55,7 @@ def seed_run(case: HeapCase, *, root: Path, record: bool = False, progress=None,
     interrupted run continues from its checkpoint, a folder without one is removed first
     and the seed run afresh."""
     folder = Path(root) / "heap" / run_name(case)
-    with claimed(folder):
+    with claimed_unless_finished(folder):
         done = finished_result(folder)
         if done is not None:
             log(reusing_line(folder))

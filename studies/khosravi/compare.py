@@ -31,7 +31,7 @@ from studies.khosravi.case import KhosraviCase
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.report import theory_row
-from studies.runfolder import RunFolder, claimed, package_versions
+from studies.runfolder import RunFolder, claimed_unless_finished, package_versions
 from studies.runner import (Stopwatch, drop_checkpoint, finish, finished_result, open_recording, open_run_folder,
                             reusing_line)
 from studies.store import Store, atomic_write, content_key, to_plain
@@ -423,7 +423,7 @@ def validation_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool
     The result is read back from result.json either way, so a report is the same from a
     new run, a resumed one or a finished one."""
     folder = Path(root) / "khosravi" / f"validate-translation-{content_key(case)}"
-    with claimed(folder):
+    with claimed_unless_finished(folder):
         if finished_result(folder) is not None:
             log(reusing_line(folder))
         elif (folder / "config.toml").is_file():
@@ -444,7 +444,7 @@ def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: boo
     folder held removed first."""
     from .backfilling import backfilling_name, run_backfilling
     folder = Path(root) / "khosravi" / backfilling_name(case)
-    with claimed(folder):
+    with claimed_unless_finished(folder):
         if finished_result(folder) is not None:
             log(reusing_line(folder))
         else:

@@ -38,7 +38,7 @@ from ..scorecard import scorecard_json, scorecard_markdown
 from ..granular.movement import run_modes
 from ..granular.specimen import load_or_prepare
 from ..config import with_current_names
-from ..runfolder import claimed, package_versions, git_revision
+from ..runfolder import claimed_unless_finished, package_versions, git_revision
 from ..runner import finish, finished_result, open_recording, open_run_folder, reusing_line
 from ..store import atomic_write, content_key, load_npz, npz_bytes, read_report, to_plain
 
@@ -115,7 +115,7 @@ def triaxial_run(base: NadukuruCase, root: Path, progress=None, log=print) -> di
     setup = TriaxialSetup()
     what = {"specimen": base.specimen, "seed": base.seed, "triaxial": setup, "particles": TRIAXIAL_PARTICLES}
     folder = Path(root) / "nadukuru" / f"validate-triaxial-{content_key(what)}"
-    with claimed(folder):
+    with claimed_unless_finished(folder):
         if finished_result(folder) is not None:
             log(reusing_line(folder))
             return finished_result(folder)
@@ -139,7 +139,7 @@ def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every
     movement (displacements.png) in the folder, and to measure how parallel those
     displacements are (result.json ``displacement_field``)."""
     folder = Path(root) / "nadukuru" / f"validate-{what}-{content_key(case)}"
-    with claimed(folder):
+    with claimed_unless_finished(folder):
         if finished_result(folder) is not None:
             log(reusing_line(folder))
         else:

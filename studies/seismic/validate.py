@@ -27,7 +27,7 @@ import numpy as np
 
 import reproducibility
 
-from ..runfolder import claimed, git_revision, package_versions
+from ..runfolder import claimed_unless_finished, git_revision, package_versions
 from ..runner import finished_result, named_run, reusing_line
 from ..store import content_key
 from .case import PAPER_FREQUENCIES, SeismicCase
@@ -91,7 +91,7 @@ def frequency_run(case: SeismicCase, *, root: Path, record: bool = False, progre
     config.toml is ``case``), else run afresh there."""
     from .compare import compare_seismic
     folder = Path(root) / "seismic" / run_name(case)
-    with claimed(folder):
+    with claimed_unless_finished(folder):
         if finished_result(folder) is not None:
             log(reusing_line(folder))
             return folder

@@ -83,3 +83,26 @@ def test_a_run_folder_is_run_by_one_process_at_a_time(tmp_path):
     holder = _holder(folder)         # let go: another process takes it
     holder.kill()
     holder.wait()
+
+
+def test_a_finished_run_is_read_while_another_process_holds_its_lock(tmp_path, monkeypatch):
+    """A folder with result.json is read, never written again: a validation finds it
+    even while the command that ran it is still at work on other runs (and holds the
+    lock); and a folder typed as a relative path takes the same lock as its full path."""
+    from studies.runfolder import lock_file
+    from studies.seismic.case import SeismicCase
+    from studies.seismic.validate import frequency_run, run_name
+    from tests.studies.test_seismic import TINY
+
+    case = SeismicCase(**TINY)
+    folder = tmp_path / "seismic" / run_name(case)
+    folder.mkdir(parents=True)
+    (folder / "result.json").write_text("{}")
+    holder = _holder(folder)
+    try:
+        assert frequency_run(case, root=tmp_path, log=lambda s: None) == folder
+    finally:
+        holder.kill()
+        holder.wait()
+    monkeypatch.chdir(folder.parent)
+    assert lock_file(Path(folder.name)) == lock_file(folder) == tmp_path / ".locks" / "seismic" / folder.name
