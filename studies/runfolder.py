@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import csv
 import io
-import threading
 import json
 import math
 import os
@@ -26,12 +25,18 @@ import platform
 import socket
 import subprocess
 import sys
+import threading
 import time
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 import numpy as np
 import tomli_w
+
+try:
+    import fcntl
+except ImportError:             # not a POSIX system: runs are not guarded against each other
+    fcntl = None
 
 import reproducibility
 
@@ -131,11 +136,6 @@ def _earlier_sessions(path: Path) -> list[dict]:
              "wall_time_s": old.get("wall_time_s", 0.0), "cpu_time_s": old.get("cpu_time_s", 0.0)}]
 
 
-try:
-    import fcntl
-except ImportError:             # not a POSIX system: runs are not guarded against each other
-    fcntl = None
-
 #: run-folder locks this process holds: lock file -> [descriptor, holds]
 _CLAIMS: dict[Path, list] = {}
 _CLAIMS_GUARD = threading.Lock()
@@ -212,7 +212,6 @@ def claimed_unless_finished(folder: Path):
     """``claimed(folder)``, or nothing for a folder that holds a finished run (result.json:
     read, never written again, so a run finished in another process's command is read
     while that command goes on)."""
-    from contextlib import nullcontext
     return nullcontext() if (Path(folder) / "result.json").is_file() else claimed(folder)
 
 
