@@ -313,6 +313,8 @@ def write_report(case: SeismicCase, folders: dict, out_dir: Path, *, material: P
             rep["other_resolutions"], superseded = _same_protocol(old["other_resolutions"], case)
             if superseded:
                 rep["superseded"] = superseded
+        if (sums := other_sums_block(old, case)) is not None:
+            rep["other_sums"] = sums
         if folders and not kept:
             rep["figures"] = report_figures(folders, out_dir)
         elif kept and "figures" in old:
@@ -414,25 +416,63 @@ COMPARED_EXTRA = ("passive_K_static_at_1_5m", "thrust_back_static_kN_per_m", "th
                   "thrust_front_static_kN_per_m", "thrust_front_max_kN_per_m")
 
 
+def block_changes(base: dict, other: dict, base_name: str, other_name: str) -> dict:
+    """Per frequency run in both blocks: each KEYS value (wall time left out: it is a
+    cost) and each COMPARED_EXTRA value in ``base`` and in ``other`` (named so in the
+    rows) and the change [%], the particles, and whether each trend has the same verdict."""
+    rows = {}
+    for f, r in other["frequencies"].items():
+        b_rec = base["frequencies"].get(f)
+        if r == "not run" or b_rec in (None, "not run"):
+            continue
+        pairs = {k: (b_rec[k], r[k]) for k in KEYS if k != "wall_time_s"} | \
+            {k: (b_rec["extra"][k], r["extra"][k]) for k in COMPARED_EXTRA}
+        rows[f] = {k: {base_name: b, other_name: o, "change_percent": 100 * (o - b) / abs(b) if b else None}
+                   for k, (b, o) in pairs.items()}
+        rows[f]["particles"] = {base_name: b_rec["extra"]["particles"], other_name: r["extra"]["particles"]}
+        rows[f]["trends_same"] = {t: _held(b_rec["trends"][t]) == _held(r["trends"][t]) for t in b_rec["trends"]}
+    return rows
+
+
 def resolution_changes(rep: dict) -> dict:
-    """Per other resolution and frequency run at both: each KEYS value (wall time left
-    out: it is a cost) and each COMPARED_EXTRA value at the report's resolution, at the
-    other, and the change [%]."""
-    out = {}
-    for name, other in rep.get("other_resolutions", {}).items():
-        rows = {}
-        for f, r in other["frequencies"].items():
-            base = rep["frequencies"].get(f)
-            if r == "not run" or base in (None, "not run"):
-                continue
-            pairs = {k: (base[k], r[k]) for k in KEYS if k != "wall_time_s"} | \
-                {k: (base["extra"][k], r["extra"][k]) for k in COMPARED_EXTRA}
-            rows[f] = {k: {rep["resolution"]: b, name: o, "change_percent": 100 * (o - b) / abs(b) if b else None}
-                       for k, (b, o) in pairs.items()}
-            rows[f]["particles"] = {rep["resolution"]: base["extra"]["particles"], name: r["extra"]["particles"]}
-            rows[f]["trends_same"] = {t: _held(base["trends"][t]) == _held(r["trends"][t]) for t in base["trends"]}
-        out[name] = rows
-    return out
+    """Per other resolution: ``block_changes`` of the report against it."""
+    return {name: block_changes(rep, other, rep["resolution"], name)
+            for name, other in rep.get("other_resolutions", {}).items()}
+
+
+def other_sums_block(old: dict | None, case: SeismicCase) -> dict | None:
+    """The runs of an earlier report at ``case``'s resolution and rest whose contact
+    forces were summed in the other order (``direct_sums``), kept beside the new runs to
+    show what the order of sums moves: the earlier report's own frequencies when it
+    summed otherwise, else the block it kept, else None."""
+    if old is None or old.get("resolution") != case.resolution:
+        return None
+    if block_sums(old) != contact_sums(case) and _rest_s(old) == case.rest_s:
+        return {"contact_sums": block_sums(old), "git": old["git"], "frequencies": old["frequencies"]}
+    kept = old.get("other_sums")
+    return kept if kept and kept["contact_sums"] != contact_sums(case) else None
+
+
+def sum_order_lines(rep: dict) -> list[str]:
+    """What the order of sums moved: each frequency run both ways, beside each other."""
+    other = rep.get("other_sums")
+    rows = block_changes(rep, other, block_sums(rep), other["contact_sums"]) if other else {}
+    if not rows:
+        return []
+    a, b = block_sums(rep), other["contact_sums"]
+    lines = ["", f"## How the results move with the order of sums: {a} vs {b} (git {other['git']})", "",
+             "The same case and seed, each contact force the same to rounding, summed on each grain in another "
+             "order: another realization, so these changes are of the size of the seed scatter, not an effect.", ""]
+    for f, row in rows.items():
+        lines += ["", f"{f} Hz:", "", f"| quantity | {a} | {b} | change |", "|---|---|---|---|"]
+        for k in [k for k in KEYS if k != "wall_time_s"] + list(COMPARED_EXTRA):
+            c = row[k]
+            ch = "" if c["change_percent"] is None else f"{c['change_percent']:+.0f} %"
+            lines.append(f"| {k} | {c[a]:.4g} | {c[b]:.4g} | {ch} |")
+        diff = [t for t, ok in row["trends_same"].items() if not ok]
+        lines += ["", f"Trends with the same verdict both ways: {len(row['trends_same']) - len(diff)} of "
+                      f"{len(row['trends_same'])}" + (f"; different: {', '.join(diff)}" if diff else "") + "."]
+    return lines
 
 
 #: what the paper leaves out and the model assumes (reference.json tags each value)
@@ -563,6 +603,7 @@ def report_markdown(rep: dict, note: str = "") -> str:
     for name, t in rep["trends_across_frequencies"].items():
         lines.append(f"| {name} | all | {_held(t)} | {t['numbers']} |")
     lines += resolution_lines(rep)
+    lines += sum_order_lines(rep)
     lines += rolling_resistance_lines(rep)
     for name, why in rep.get("superseded", {}).items():
         lines += ["", f"The {name} resolution (git {why['git']}, {', '.join(why['frequencies'])} Hz) is left out: "

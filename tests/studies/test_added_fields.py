@@ -75,3 +75,24 @@ def test_the_report_says_how_each_resolution_summed_its_contacts():
     md = V.report_markdown(rep)
     assert V.SUMS_TEXT["direct"] in md
     assert "coarse: direct, medium: rows" in md
+
+
+def test_the_report_keeps_the_other_order_of_sums_beside_the_new_runs():
+    """seismic.json's coarse runs summed by rows; a report of the default case (direct
+    sums) at the same resolution and rest keeps them as ``other_sums`` and sets each
+    frequency run both ways side by side; a case summing by rows, or another
+    resolution, keeps nothing."""
+    from studies.seismic import validate as V
+
+    old = json.loads(REPORT.read_text())
+    kept = V.other_sums_block(old, SeismicCase())
+    assert kept["contact_sums"] == "rows" and kept["frequencies"] == old["frequencies"]
+    assert V.other_sums_block(old, SeismicCase(direct_sums=False)) is None
+    assert V.other_sums_block(old, SeismicCase(resolution="medium")) is None
+    rep = json.loads(REPORT.read_text()) | {"contact_sums": "direct", "other_sums": kept}
+    rep["frequencies"]["5"]["top_displacement_m"] = 1.25 * old["frequencies"]["5"]["top_displacement_m"]
+    md = "\n".join(V.sum_order_lines(rep))
+    assert "## How the results move with the order of sums: direct vs rows" in md
+    assert "| top_displacement_m |" in md and "-20 %" in md          # rows = direct / 1.25
+    again = V.other_sums_block(rep, SeismicCase())      # a later direct report keeps the rows' block
+    assert again is kept
