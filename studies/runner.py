@@ -21,7 +21,7 @@ from typing import Callable
 
 import reproducibility
 
-from .runfolder import RunFolder, claim, lock_file, unclaim
+from .runfolder import RunFolder, claim, claimed_unless_finished, lock_file, unclaim
 
 
 @dataclass
@@ -313,6 +313,34 @@ def finished_result(run_dir: str | Path) -> dict | None:
     """The result of a run folder that holds a finished run (result.json), else None."""
     p = Path(run_dir) / "result.json"
     return json.loads(p.read_text()) if p.is_file() else None
+
+
+def run_once(folder: Path, run: Callable[[Path | None], object], *, resumable: Callable[[Path], bool] | None = None,
+             log=print) -> dict | None:
+    """The result.json of the named run in ``folder``, run by one process at a time
+    (``claimed_unless_finished``): read when the folder holds a finished run; resumed,
+    ``run(folder)``, when ``resumable(folder)`` says it holds an interrupted one; else
+    run afresh, ``run(None)``, whatever the folder held removed first (a run that cannot
+    go on from it would mix with it). ``resumable`` None: the run cannot resume."""
+    folder = Path(folder)
+    with claimed_unless_finished(folder):
+        done = finished_result(folder)
+        if done is not None:
+            log(reusing_line(folder))
+            return done
+        if resumable is not None and resumable(folder):
+            log(f"resuming interrupted run {folder}")
+            run(folder)
+        else:
+            if folder.exists():
+                shutil.rmtree(folder)
+            run(None)
+        return finished_result(folder)
+
+
+def has_config(folder: Path) -> bool:
+    """Whether an unfinished run folder can be resumed: its config.toml was written."""
+    return (Path(folder) / "config.toml").is_file()
 
 
 def interrupted_line(resume_command: str | None, folder: Path | None, *, reruns: bool = False) -> str:

@@ -23,9 +23,8 @@ from pathlib import Path
 
 import reproducibility
 
-from ..runfolder import claimed_unless_finished, git_revision, package_versions
+from ..runfolder import git_revision, package_versions
 
-from ..runner import finished_result, reusing_line
 from ..store import atomic_write, content_key, to_plain
 from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT, DrystoneCase, GEOMETRIES, reference, solver
 from .run import RIGID_NOTE, increment_logger, limit_equilibrium, run_dem, wall_result
@@ -57,17 +56,10 @@ def dem_run(case: DrystoneCase, what: str, root: Path, *, figures: bool = False,
     when it holds a finished run, else the run goes there, a folder without result.json
     (an interrupted run) removed first. ``figures``: the wall's history and mechanism
     figures too, history.png and mechanism.png in the folder."""
-    from ..runner import finish, open_recording, open_run_folder
-
+    from ..runner import finish, open_recording, open_run_folder, run_once
     folder = run_folder(case, what, root)
-    with claimed_unless_finished(folder):
-        done = finished_result(folder)
-        if done is not None:
-            if log:
-                log(reusing_line(folder))
-            return done
-        if folder.exists():
-            shutil.rmtree(folder)
+
+    def run(_: None) -> None:
         rf = open_run_folder("drystone", case, root, name=folder.name, seed=None)
         rec = open_recording(None, study="drystone", recording_id=f"drystone-{case.wall}", dim=2, folder=rf)
         wall, res, seconds, cpu = run_dem(case, on_increment=increment_logger(rec))
@@ -77,7 +69,8 @@ def dem_run(case: DrystoneCase, what: str, root: Path, *, figures: bool = False,
             _wall_figures(case, r, res, rf.path)
         finish(rf, r, main=False, particles=wall.block_count, steps=res.steps, dt_s=case.dt, iterations=case.iterations,
                contact=r["contact"], wall_time_s=seconds, cpu_time_s=cpu, assumptions=r["assumptions"])
-        return finished_result(folder)
+
+    return run_once(folder, run, log=log or (lambda line: None))
 
 
 def run_folder(case: DrystoneCase, what: str, root: Path) -> Path:

@@ -11,15 +11,14 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import shutil
 from pathlib import Path
 
 import numpy as np
 
 import reproducibility
 
-from ..runfolder import claimed_unless_finished, git_revision, package_versions
-from ..runner import finished_result, named_run, reusing_line
+from ..runfolder import git_revision, package_versions
+from ..runner import has_config, named_run, run_once
 from ..store import content_key, read_report
 from .compare import ASSUMPTIONS, compare_heap, slope_text
 from .case import HeapCase
@@ -55,20 +54,20 @@ def seed_run(case: HeapCase, *, root: Path, record: bool = False, progress=None,
     interrupted run continues from its checkpoint, a folder without one is removed first
     and the seed run afresh."""
     folder = Path(root) / "heap" / run_name(case)
-    with claimed_unless_finished(folder):
-        done = finished_result(folder)
-        if done is not None:
-            log(reusing_line(folder))
-            return done
-        if (folder / "config.toml").is_file() and (folder / "checkpoints" / "heap.npz").is_file():
-            log(f"resuming interrupted run {folder}")
-            compare_heap(case, root=root, record=record, progress=progress, resume=folder)
-            return finished_result(folder)
-        if folder.exists():
-            shutil.rmtree(folder)
+
+    def run(resume: Path | None) -> None:
+        if resume is not None:
+            compare_heap(case, root=root, record=record, progress=progress, resume=resume)
+            return
         with named_run(folder.name):
             compare_heap(case, root=root, record=record, progress=progress)
-        return finished_result(folder)
+
+    return run_once(folder, run, resumable=_resumable, log=log)
+
+
+def _resumable(folder: Path) -> bool:
+    """An interrupted heap run goes on from its checkpoint (config.toml and heap.npz)."""
+    return has_config(folder) and (folder / "checkpoints" / "heap.npz").is_file()
 
 
 def write_report(case: HeapCase, runs: list[dict], out_dir: Path) -> dict:

@@ -17,7 +17,6 @@ from __future__ import annotations
 import json
 import math
 import pickle
-import shutil
 import time
 from pathlib import Path
 
@@ -31,9 +30,9 @@ from studies.khosravi.case import KhosraviCase
 from studies.biaxial.calibrate import DEFAULT_CARDS, phi_for_friction, run_one
 from studies.progress import progress
 from studies.report import theory_row
-from studies.runfolder import RunFolder, claimed_unless_finished, package_versions
-from studies.runner import (Stopwatch, drop_checkpoint, finish, finished_result, open_recording, open_run_folder,
-                            reusing_line)
+from studies.runfolder import RunFolder, package_versions
+from studies.runner import (Stopwatch, drop_checkpoint, finish, has_config, open_recording, open_run_folder,
+                            run_once)
 from studies.store import Store, atomic_write, content_key, to_plain
 
 from .specimen import settled_box, specimen_key
@@ -423,17 +422,14 @@ def validation_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool
     The result is read back from result.json either way, so a report is the same from a
     new run, a resumed one or a finished one."""
     folder = Path(root) / "khosravi" / f"validate-translation-{content_key(case)}"
-    with claimed_unless_finished(folder):
-        if finished_result(folder) is not None:
-            log(reusing_line(folder))
-        elif (folder / "config.toml").is_file():
-            log(f"resuming interrupted run {folder}")
-            compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, resume=folder)
+
+    def run(resume: Path | None) -> None:
+        if resume is not None:
+            compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, resume=resume)
         else:
-            if folder.exists():
-                shutil.rmtree(folder)       # not even its config was written: nothing to resume
             compare_khosravi(case, root=root, quiet=quiet, rrd=rrd, name=folder.name)
-        return finished_result(folder), RunFolder.existing(folder, seed=case.seed)
+
+    return run_once(folder, run, resumable=has_config, log=log), RunFolder.existing(folder, seed=case.seed)
 
 
 def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: bool = False,
@@ -444,11 +440,5 @@ def backfilling_run(case: KhosraviCase, *, root: str | Path = "runs", quiet: boo
     folder held removed first."""
     from .backfilling import backfilling_name, run_backfilling
     folder = Path(root) / "khosravi" / backfilling_name(case)
-    with claimed_unless_finished(folder):
-        if finished_result(folder) is not None:
-            log(reusing_line(folder))
-        else:
-            if folder.exists():
-                shutil.rmtree(folder)
-            run_backfilling(case, root=root, quiet=quiet)
-        return finished_result(folder), RunFolder.existing(folder, seed=case.seed)
+    result = run_once(folder, lambda _: run_backfilling(case, root=root, quiet=quiet), log=log)
+    return result, RunFolder.existing(folder, seed=case.seed)

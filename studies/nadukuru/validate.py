@@ -38,8 +38,8 @@ from ..scorecard import scorecard_json, scorecard_markdown
 from ..granular.movement import run_modes
 from ..granular.specimen import load_or_prepare
 from ..config import with_current_names
-from ..runfolder import claimed_unless_finished, package_versions, git_revision
-from ..runner import finish, finished_result, open_recording, open_run_folder, reusing_line
+from ..runfolder import package_versions, git_revision
+from ..runner import finish, has_config, open_recording, open_run_folder, run_once
 from ..store import atomic_write, content_key, load_npz, npz_bytes, read_report, to_plain
 
 #: the validation targets (reference.json "targets"): K and h/H against Tables 1-2
@@ -115,16 +115,13 @@ def triaxial_run(base: NadukuruCase, root: Path, progress=None, log=print) -> di
     setup = TriaxialSetup()
     what = {"specimen": base.specimen, "seed": base.seed, "triaxial": setup, "particles": TRIAXIAL_PARTICLES}
     folder = Path(root) / "nadukuru" / f"validate-triaxial-{content_key(what)}"
-    with claimed_unless_finished(folder):
-        if finished_result(folder) is not None:
-            log(reusing_line(folder))
-            return finished_result(folder)
-        if folder.exists():
-            shutil.rmtree(folder)
+
+    def run(_: None) -> None:
         rf = open_run_folder("nadukuru", what, root, name=folder.name, seed=base.seed)
         card, path = calibrate_triaxial(base, setup, particles=TRIAXIAL_PARTICLES, root=root, progress=progress)
         finish(rf, dict(card) | {"card": str(path)}, main=False)
-        return finished_result(folder)
+
+    return run_once(folder, run, log=log)
 
 
 def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every: int = 0, fields: str | None = None,
@@ -139,18 +136,12 @@ def movement_run(case: NadukuruCase, spec, what: str, root: Path, *, frame_every
     movement (displacements.png) in the folder, and to measure how parallel those
     displacements are (result.json ``displacement_field``)."""
     folder = Path(root) / "nadukuru" / f"validate-{what}-{content_key(case)}"
-    with claimed_unless_finished(folder):
-        if finished_result(folder) is not None:
-            log(reusing_line(folder))
-        else:
-            resume = folder if (folder / "config.toml").is_file() else None
-            if resume is not None:
-                log(f"resuming unfinished run {folder}")
-            elif folder.exists():
-                shutil.rmtree(folder)
-            _move(case, spec, open_run_folder("nadukuru", case, root, name=folder.name, resume=resume), frame_every,
-                  fields, progress)
-        return finished_result(folder), load_npz(folder / "history.npz"), folder
+
+    def run(resume: Path | None) -> None:
+        _move(case, spec, open_run_folder("nadukuru", case, root, name=folder.name, resume=resume), frame_every,
+              fields, progress)
+
+    return run_once(folder, run, resumable=has_config, log=log), load_npz(folder / "history.npz"), folder
 
 
 #: the modes whose displacement field is drawn and measured: the paper draws RT's

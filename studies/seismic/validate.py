@@ -27,8 +27,8 @@ import numpy as np
 
 import reproducibility
 
-from ..runfolder import claimed_unless_finished, git_revision, package_versions
-from ..runner import finished_result, named_run, reusing_line
+from ..runfolder import git_revision, package_versions
+from ..runner import finished_result, has_config, named_run, reusing_line, run_once
 from ..store import content_key
 from .case import PAPER_FREQUENCIES, SeismicCase
 
@@ -91,18 +91,13 @@ def frequency_run(case: SeismicCase, *, root: Path, record: bool = False, progre
     config.toml is ``case``), else run afresh there."""
     from .compare import compare_seismic
     folder = Path(root) / "seismic" / run_name(case)
-    with claimed_unless_finished(folder):
-        if finished_result(folder) is not None:
-            log(reusing_line(folder))
-            return folder
-        resume = folder if (folder / "config.toml").is_file() else None
-        if resume is not None:
-            log(f"resuming unfinished run {folder}")
-        elif folder.exists():
-            shutil.rmtree(folder)           # not even its config was written: nothing to resume
+
+    def run(resume: Path | None) -> None:
         with named_run(folder.name):
             compare_seismic(case, root=root, record=record, progress=progress, resume=resume)
-        return folder
+
+    run_once(folder, run, resumable=has_config, log=log)
+    return folder
 
 
 def stood_before_shaking(series: dict, ramp_s: float, wall_length_m: float) -> tuple[bool, str]:

@@ -106,3 +106,36 @@ def test_a_finished_run_is_read_while_another_process_holds_its_lock(tmp_path, m
         holder.wait()
     monkeypatch.chdir(folder.parent)
     assert lock_file(Path(folder.name)) == lock_file(folder) == tmp_path / ".locks" / "seismic" / folder.name
+
+
+def test_a_named_run_is_read_resumed_or_run_afresh(tmp_path):
+    """``run_once``, the one path of every validation's named runs: a folder holding
+    result.json is read and nothing runs; an interrupted one that can resume is handed
+    to the run as it is; one that cannot (no config.toml, or a run without resume) is
+    removed before the run starts afresh in it, so nothing of the old run mixes in."""
+    from studies.runner import has_config, run_once
+
+    calls = []
+
+    def run(resume):
+        calls.append(resume)
+        folder.mkdir(parents=True, exist_ok=True)
+        assert not (folder / "partial.txt").exists() or resume is not None
+        (folder / "result.json").write_text(json.dumps({"resumed": resume is not None}))
+
+    folder = tmp_path / "study" / "validate-x"
+    folder.mkdir(parents=True)
+    (folder / "result.json").write_text('{"old": 1}')
+    lines = []
+    assert run_once(folder, run, resumable=has_config, log=lines.append) == {"old": 1}
+    assert calls == [] and lines == [f"reusing finished run {folder}"]
+
+    (folder / "result.json").unlink()
+    (folder / "config.toml").write_text("")
+    (folder / "partial.txt").write_text("")
+    assert run_once(folder, run, resumable=has_config, log=lines.append) == {"resumed": True}
+    assert calls == [folder] and (folder / "partial.txt").is_file()
+
+    (folder / "result.json").unlink()
+    assert run_once(folder, run, log=lines.append) == {"resumed": False}     # cannot resume
+    assert calls == [folder, None] and not (folder / "partial.txt").exists()
