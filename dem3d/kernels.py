@@ -45,11 +45,23 @@ the non-finite check.)
 from __future__ import annotations
 
 import math
+import os
 
+import numba
 import numpy as np
 from numba import njit, prange
 
 FASTMATH = False       # see the module docstring
+
+# OpenMP before TBB (numba's own order is TBB, OpenMP, workqueue). Where libtbb is
+# installed (a LIGGGHTS install brings it), a process that had run these kernels spent
+# 2-4 min in tbb::finalize at exit on a busy 2-core machine (numba #5983, #10556: a
+# finished run that does not end). OpenMP is thread-safe as well (a dask worker's
+# threads), and no result depends on the scheduler (above). It is not fork-safe; nothing
+# here forks without exec (dask's worker processes are spawned). An explicit
+# NUMBA_THREADING_LAYER or NUMBA_THREADING_LAYER_PRIORITY wins.
+if "NUMBA_THREADING_LAYER_PRIORITY" not in os.environ:
+    numba.config.THREADING_LAYER_PRIORITY = ["omp", "tbb", "workqueue"]
 
 from . import params as _params
 from .params import ContactParams
