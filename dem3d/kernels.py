@@ -45,7 +45,6 @@ the non-finite check.)
 from __future__ import annotations
 
 import math
-import os
 
 import numba
 import numpy as np
@@ -58,9 +57,10 @@ FASTMATH = False       # see the module docstring
 # 2-4 min in tbb::finalize at exit on a busy 2-core machine (numba #5983, #10556: a
 # finished run that does not end). OpenMP is thread-safe as well (a dask worker's
 # threads), and no result depends on the scheduler (above). It is not fork-safe; nothing
-# here forks without exec (dask's worker processes are spawned). An explicit
-# NUMBA_THREADING_LAYER or NUMBA_THREADING_LAYER_PRIORITY wins.
-if "NUMBA_THREADING_LAYER_PRIORITY" not in os.environ:
+# here forks without exec (dask's worker processes are spawned). A priority set in
+# NUMBA_THREADING_LAYER_PRIORITY (other than numba's default order), or a layer named in
+# NUMBA_THREADING_LAYER, wins.
+if list(numba.config.THREADING_LAYER_PRIORITY) == ["tbb", "omp", "workqueue"]:
     numba.config.THREADING_LAYER_PRIORITY = ["omp", "tbb", "workqueue"]
 
 from . import params as _params

@@ -133,3 +133,15 @@ def test_from_arrays_refuses_a_wall_friction_the_state_would_override():
     state["panels.mu"] = np.array([0.35])
     restored = dem3d.Simulation.from_arrays(state, walls=[dem3d.Wall("floor", dem3d.plane((0, 0, 0), (0, 0, 1), 0.35))])
     assert restored.walls.panels.mu[0] == 0.35
+
+
+def test_the_parallel_loops_run_on_openmp_where_it_is_installed():
+    """dem3d.kernels puts numba's OpenMP layer before TBB: under TBB a process that had
+    run the kernels spent minutes in tbb::finalize at exit on a busy machine (numba
+    #5983, #10556). Where libgomp is missing numba falls back, and this test skips."""
+    try:
+        import numba.np.ufunc.omppool  # noqa: F401
+    except ImportError:
+        pytest.skip("no OpenMP runtime: numba uses TBB or its workqueue")
+    build().step(1)
+    assert numba.threading_layer() == "omp"
