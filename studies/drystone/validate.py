@@ -24,7 +24,6 @@ from pathlib import Path
 import reproducibility
 
 from ..runfolder import git_revision, package_versions
-
 from ..store import atomic_write, content_key, to_plain
 from .case import ACCURACY_LIMIT_PERCENT, CONVERGENCE_LIMIT_PERCENT, DrystoneCase, GEOMETRIES, reference, solver
 from .run import RIGID_NOTE, increment_logger, limit_equilibrium, run_dem, wall_result
