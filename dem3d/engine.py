@@ -76,6 +76,7 @@ class Simulation:
                  allow_unsafe_dt: bool = False, sort_by_cell: bool = True,
                  spheres_per_thread: int = 4000, sort_every: int = 50, materials=None,
                  sphere_material=None, wall_material=None, material_pairs=None, direct_sums: bool = False):
+        kernels.prefer_openmp()
         pos = np.ascontiguousarray(specimen.positions, float).reshape(-1, 3)
         n = pos.shape[0]
         radii = np.ascontiguousarray(specimen.radii, float).reshape(-1)
@@ -289,6 +290,7 @@ class Simulation:
         hold the last step's loads). Raises ``BlowUp`` (one line) on a non-finite state or
         a sphere faster than half the smallest radius per step.
         """
+        kernels.prefer_openmp()
         threads = numba.get_num_threads()
         numba.set_num_threads(max(1, min(threads, self.n_spheres // max(1, self.spheres_per_thread))))
         try:
@@ -347,6 +349,7 @@ class Simulation:
         """Contact force and torque on every sphere at the current state, without moving
         anything: (f (n, 3) [N], t (n, 3) [N m]). Tangential histories do advance by one
         increment, exactly as the force evaluation of a step would."""
+        kernels.prefer_openmp()
         if self._need_rebuild or self._lacks_slabs():
             self._rebuild()
         pax, plen = self._periodic_args()

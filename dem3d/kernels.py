@@ -60,8 +60,28 @@ FASTMATH = False       # see the module docstring
 # here forks without exec (dask's worker processes are spawned). A priority set in
 # NUMBA_THREADING_LAYER_PRIORITY (other than numba's default order), or a layer named in
 # NUMBA_THREADING_LAYER, wins.
-if list(numba.config.THREADING_LAYER_PRIORITY) == ["tbb", "omp", "workqueue"]:
-    numba.config.THREADING_LAYER_PRIORITY = ["omp", "tbb", "workqueue"]
+_NUMBA_DEFAULT_PRIORITY = ["tbb", "omp", "workqueue"]
+
+
+def prefer_openmp() -> None:
+    """Put OpenMP first in numba's threading-layer priority until the layer is launched.
+
+    numba re-reads its whole config from the environment whenever a NUMBA_* variable has
+    changed since its last compile (a notebook that sets NUMBA_NUM_THREADS after import),
+    which restores its default order; so this syncs that config first, then sets the
+    order, and the engine calls it before every entry that may launch the threads. Once
+    launched, the layer is fixed for the process and this does nothing."""
+    try:
+        numba.threading_layer()
+        return
+    except ValueError:          # not launched yet
+        pass
+    numba.config.reload_config()
+    if list(numba.config.THREADING_LAYER_PRIORITY) == _NUMBA_DEFAULT_PRIORITY:
+        numba.config.THREADING_LAYER_PRIORITY = ["omp", "tbb", "workqueue"]
+
+
+prefer_openmp()
 
 from . import params as _params
 from .params import ContactParams

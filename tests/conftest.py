@@ -34,8 +34,13 @@ def _one_numba_thread() -> None:
     """In a pytest-xdist worker (``make test`` runs two, one per core) numba runs its
     parallel loops on one thread by default: two workers with two threads each would
     wait at every parallel loop for a core. A test that asks for more threads still gets
-    them (NUMBA_NUM_THREADS is untouched), e.g. the thread-count determinism checks."""
+    them (NUMBA_NUM_THREADS is untouched), e.g. the thread-count determinism checks.
+    Setting the count launches numba's threads, which fixes the threading layer for the
+    process: dem3d.kernels is imported first so that its OpenMP-first order applies."""
     import numba
+
+    import dem3d.kernels
+    dem3d.kernels.prefer_openmp()
     numba.set_num_threads(1)
 
 

@@ -1,6 +1,8 @@
 """Bitwise reproducibility: repeated runs, thread counts, and checkpoint/resume."""
 
 import io
+import subprocess
+import sys
 
 import numba
 import numpy as np
@@ -145,3 +147,23 @@ def test_the_parallel_loops_run_on_openmp_where_it_is_installed():
         pytest.skip("no OpenMP runtime: numba uses TBB or its workqueue")
     build().step(1)
     assert numba.threading_layer() == "omp"
+
+
+def test_openmp_stays_first_after_a_numba_variable_changes():
+    """numba re-reads its config from the environment at a compile after any NUMBA_*
+    variable changed (a notebook that sets NUMBA_NUM_THREADS after import; here an
+    unused variable, so the test does not depend on the caller's), restoring TBB first; prefer_openmp, which the engine calls before launching threads, puts
+    OpenMP back. A fresh process: the layer is chosen once per process."""
+    try:
+        import numba.np.ufunc.omppool  # noqa: F401
+    except ImportError:
+        pytest.skip("no OpenMP runtime: numba uses TBB or its workqueue")
+    code = ("import os, numba, dem3d.kernels as k\n"
+            "os.environ['NUMBA_WALLSIM_PROBE'] = '1'\n"
+            "numba.njit(lambda x: x + 1)(1)\n"
+            "print(numba.config.THREADING_LAYER_PRIORITY[0])\n"
+            "k.prefer_openmp()\n"
+            "numba.get_num_threads()\n"
+            "print(numba.threading_layer())\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["tbb", "omp"]        # numba's reset happened, and was undone
