@@ -1610,16 +1610,20 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     for k in range(moving.shape[0]):
         if moving[k]:
             any_moving = True
+    # the flags handed on are runtime bools (a literal True is typed Literal[bool]), as the
+    # engine's evaluate_forces passes them from Python: both then call the same compiled
+    # pair_forces and gather_and_move, each compiled once (~25-30 s apiece)
+    integrate = n_steps >= 0
     for s in range(n_steps):
         broken = 0
         if bnd is not None:
             broken = bond_forces(sph, bnd, dt, pax, plen)
         if rolling:
-            pair_forces(sph, prs, prm, dt, pax, plen, mtab, True, direct)
+            pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling, direct)
         else:
             pair_forces(sph, prs, prm, dt, pax, plen, mtab, None, direct)
         moved, bad, fast = gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz,
-                                           ref_limit2, speed_limit2, True, mtab, has_fext, bnd, direct)
+                                           ref_limit2, speed_limit2, integrate, mtab, has_fext, bnd, direct)
         if has_clumps:
             m2, b2, f2 = move_clumps(sph, clu, prm, dt, gx, gy, gz, ref_limit2, speed_limit2)
             moved += m2
