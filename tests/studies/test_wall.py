@@ -278,15 +278,16 @@ def test_a_surcharged_movement_resumes_exactly(tmp_path):
 
 
 def test_a_reduced_triaxial_of_the_card_recipe_has_the_requested_phi():
-    """The card inverted for 34 deg, tested at 3,000 spheres (the card: 8,200) with
+    """The card inverted for 34 deg, tested at 2,000 spheres (the card: 8,200) with
     another seed: peak phi within the 1.5 deg the designer's backfill must reach. At
     3,000 spheres the card's points came out 0.4-0.8 deg above 8,200's (friction 0.2,
-    0.65, rolling 0.05-0.2; seed 1), inside that."""
+    0.65, rolling 0.05-0.2; seed 1), inside that. This recipe at seed 2 (measured):
+    34.10 deg at 2,000 spheres, 34.12 at 3,000 (1.6x the CPU), 33.23 at 1,500."""
     from studies.elements.triaxial import run_triaxial
     from studies.wall.calibrate import point_recipe
 
     m = match_phi(34.0, load_card())
-    res = run_triaxial(point_recipe(3000, m.particle_friction, m.rolling_friction), seed=2, particles=3000)
+    res = run_triaxial(point_recipe(2000, m.particle_friction, m.rolling_friction), seed=2, particles=2000)
     assert res.phi_peak_deg == pytest.approx(34.0, abs=1.5)
 
 
