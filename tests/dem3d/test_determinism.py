@@ -137,27 +137,34 @@ def test_from_arrays_refuses_a_wall_friction_the_state_would_override():
     assert restored.walls.panels.mu[0] == 0.35
 
 
-def test_the_parallel_loops_run_on_openmp_where_it_is_installed():
-    """dem3d.kernels puts numba's OpenMP layer before TBB: under TBB a process that had
-    run the kernels spent minutes in tbb::finalize at exit on a busy machine (numba
-    #5983, #10556). Where libgomp is missing numba falls back, and this test skips."""
+def _has_openmp() -> bool:
     try:
         import numba.np.ufunc.omppool  # noqa: F401
     except ImportError:
-        pytest.skip("no OpenMP runtime: numba uses TBB or its workqueue")
+        return False
+    return True
+
+
+#: where libgomp is missing numba falls back to TBB or its workqueue
+needs_openmp = pytest.mark.skipif(not _has_openmp(), reason="no OpenMP runtime: numba uses TBB or its workqueue")
+
+
+@needs_openmp
+def test_the_parallel_loops_run_on_openmp_where_it_is_installed():
+    """dem3d.kernels puts numba's OpenMP layer before TBB: under TBB a process that had
+    run the kernels spent minutes in tbb::finalize at exit on a busy machine (numba
+    #5983, #10556)."""
     build().step(1)
     assert numba.threading_layer() == "omp"
 
 
+@needs_openmp
 def test_openmp_stays_first_after_a_numba_variable_changes():
     """numba re-reads its config from the environment at a compile after any NUMBA_*
     variable changed (a notebook that sets NUMBA_NUM_THREADS after import; here an
-    unused variable, so the test does not depend on the caller's), restoring TBB first; prefer_openmp, which the engine calls before launching threads, puts
-    OpenMP back. A fresh process: the layer is chosen once per process."""
-    try:
-        import numba.np.ufunc.omppool  # noqa: F401
-    except ImportError:
-        pytest.skip("no OpenMP runtime: numba uses TBB or its workqueue")
+    unused variable, so the test does not depend on the caller's), restoring TBB
+    first; prefer_openmp, which the engine calls before launching threads, puts OpenMP
+    back. A fresh process: the layer is chosen once per process."""
     code = ("import os, numba, dem3d.kernels as k\n"
             "os.environ['NUMBA_WALLSIM_PROBE'] = '1'\n"
             "numba.njit(lambda x: x + 1)(1)\n"
