@@ -220,12 +220,12 @@ def test_killing_a_worker_mid_sweep_still_finishes_every_point(client, tmp_path)
 
     killer = threading.Thread(target=kill_one_busy_worker)
     killer.start()
-    table = run_sweep("khosravi", parse_vary(["seed=1..2", "wall_speed=0.004,0.008"]), sets=TINY, out=tmp_path,
-                      client=client)
+    # two points, one per worker: one is killed mid-run and must be run again
+    table = run_sweep("khosravi", parse_vary(["seed=1..2"]), sets=TINY, out=tmp_path, client=client)
     killer.join()
     assert killed, "no worker was killed"
     assert all(str(k).startswith("point-") for keys in killed.values() for k in keys)
-    assert [p["status"] for p in table["points"]] == ["done"] * 4
+    assert [p["status"] for p in table["points"]] == ["done"] * 2
     assert all((Path(p["run_folder"]) / "result.json").is_file() for p in table["points"])
 
 
