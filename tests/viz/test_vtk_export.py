@@ -205,7 +205,7 @@ def test_calibrations_write_each_test_as_its_own_series(tmp_path):
     import cli
 
     out = tmp_path / "runs"
-    assert cli.main(["calibrate", "triaxial", "--particles", "600", "--vtk", "--out", str(out), "--quiet"]) == 0
+    assert cli.main(["calibrate", "triaxial", "--particles", "300", "--vtk", "--out", str(out), "--quiet"]) == 0
     run = next((out / "triaxial").iterdir())
     card = json.loads((run / "result.json").read_text())
     particles, walls = _collection(run / "vtk", "particles"), _collection(run / "vtk", "walls")
