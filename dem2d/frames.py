@@ -1,7 +1,7 @@
 """Bulk read-out of a space into numpy arrays, and the ``Frame`` record the viz draws.
 
-This is the only module that uses ``pymunk.batch`` (marked "highly experimental" by
-pymunk, so it is wrapped here once). Rows come back in pymunk's internal order (which
+This module and ``blocks.water`` are the two that use ``pymunk.batch`` (marked "highly
+experimental" by pymunk, so it is wrapped in these two places). Rows come back in pymunk's internal order (which
 includes kinematic and static bodies and changes when bodies are added); they are
 mapped to creation order through the body ids (``Grains.id_map``).
 """

@@ -15,6 +15,7 @@ the toe level.
 
 * ``geometry``   the section cut into courses and blocks (``course_pieces``; no physics)
 * ``model``      the pymunk space (``BlockWall``): blocks, foundation, pair friction, water load
+* ``water``      the water load's arithmetic, compiled (``face_loads``), and its batch read/write
 * ``mechanism``  sliding along a bed joint or toppling about a course's toe (``classify_mechanism``)
 * ``loading``    water increments, settling, failure test, mechanism (``load_to_failure``)
 

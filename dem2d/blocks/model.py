@@ -10,12 +10,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import pymunk
 
-from analytic.constants import G, GAMMA_WATER
+from analytic.constants import G
 from analytic.inputs import require_number
 from analytic.schema import check_fields, param
 
 from ..sim import sigint_between_steps
 from .geometry import area_centroid, bed_axes, course_pieces, section_polygon
+from .water import BodyBatch, face_loads
 
 #: collision types: every block, and the fixed foundation under the first course
 BLOCK_TYPE, FOUNDATION_TYPE = 21, 22
@@ -255,61 +256,43 @@ class BlockWall:
         the face and put at its centre of pressure, summed per block: (block indices (q,),
         forces (q,2) [N/m], torques about the block centroids (q,) [N m/m]); None when dry.
         Direction: into the block, normal to the face as it is now ("normal") or as it
-        was built ("fixed")."""
-        hw = self.water_height
-        if hw <= 0 or not self.wet:
+        was built ("fixed"). ``water.face_loads``."""
+        if not self._wetted():
             return None
-        if self._wet_arrays is None:
-            self._wet_arrays = _wet_arrays(self.wet)
-        body, a, b, n0, blocks, slot = self._wet_arrays
-        bods = [self.bodies[i] for i in blocks]
-        pos = np.array([tuple(bd.position) for bd in bods])
-        ang = np.array([bd.angle for bd in bods])
-        c, s = np.cos(ang)[slot], np.sin(ang)[slot]
-        rot = lambda v: np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]])  # noqa: E731
-        A, B = pos[slot] + rot(a), pos[slot] + rot(b)
-        d = B - A
-        n = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(d[:, 0], d[:, 1])[:, None] if self.direction == "normal" \
-            else rot(n0) * 0 + n0
-        pa, pb = GAMMA_WATER * (hw - A[:, 1]), GAMMA_WATER * (hw - B[:, 1])
-        # clip each face at the water line (pressure linear along it, zero at the surface)
-        t = np.where((pa < 0) != (pb < 0), pa / np.where(pa != pb, pa - pb, 1.0), 0.0)
-        A = np.where(((pa < 0) & (pb > 0))[:, None], A + t[:, None] * d, A)
-        B = np.where(((pb < 0) & (pa > 0))[:, None], A + t[:, None] * d, B)
-        pa, pb = np.maximum(pa, 0.0), np.maximum(pb, 0.0)
-        d = B - A
-        length = np.hypot(d[:, 0], d[:, 1])
-        force = length * (pa + pb) / 2
-        wet = force > 0
-        s_cp = np.where(wet, (pa + 2 * pb) / (3 * np.where(wet, pa + pb, 1.0)), 0.0)  # trapezoid centre from A
-        F = force[:, None] * n
-        P = A + s_cp[:, None] * d
-        r = P - pos[slot]
-        torque = r[:, 0] * F[:, 1] - r[:, 1] * F[:, 0]
-        Fb = np.zeros((len(blocks), 2))
-        Tb = np.zeros(len(blocks))
-        np.add.at(Fb, slot, F)
-        np.add.at(Tb, slot, torque)
-        return blocks, Fb, Tb
+        blocks = self._wet_arrays[4]
+        pos = np.array([tuple(self.bodies[i].position) for i in blocks])
+        ang = np.array([self.bodies[i].angle for i in blocks])
+        return (blocks, *self._face_loads(pos, ang))
 
     def advance(self, seconds: float) -> None:
         """Step for ``seconds``, re-applying the water load every step (pymunk clears
         forces after each step). Ctrl-C is honoured between steps."""
         n = max(int(round(seconds / self.solver.dt)), 1)
         dt = self.solver.dt
+        batch = BodyBatch(self.space, [self.bodies[i] for i in self._wet_arrays[4]]) if self._wetted() else None
         with sigint_between_steps() as marks:
             for _ in range(n):
-                loads = self.water_loads()
-                if loads is not None:
-                    for i, F, T in zip(loads[0].tolist(), loads[1].tolist(), loads[2].tolist()):
-                        body = self.bodies[i]
-                        body.force = F
-                        body.torque = T
+                if batch is not None:
+                    batch.write(*self._face_loads(*batch.read()))
                 self.space.step(dt)
                 if marks:
                     raise KeyboardInterrupt
         self.time += n * dt
         self.steps += n
+
+    def _wetted(self) -> bool:
+        """Water stands against the wall (and the wet-face arrays are made)."""
+        if self.water_height <= 0 or not self.wet:
+            return False
+        if self._wet_arrays is None:
+            self._wet_arrays = _wet_arrays(self.wet)
+        return True
+
+    def _face_loads(self, pos: np.ndarray, ang: np.ndarray):
+        """(forces (q,2), torques (q,)) on the wet blocks at positions ``pos``, angles ``ang``."""
+        _, a, b, n0, blocks, slot = self._wet_arrays
+        return face_loads(pos, ang, a, b, n0, slot, len(blocks), float(self.water_height),
+                          self.direction == "normal")
 
     def contact_forces(self) -> tuple[np.ndarray, np.ndarray]:
         """Contact points (m,2) [m] and normal force magnitudes (m,) [N/m] of every
