@@ -1,5 +1,5 @@
 """Sweeps on Dask (studies/sweep.py): the points and their statistics against hand
-values, and on a 2-worker LocalCluster a tiny Khosravi box (H 0.1 m, grains x5, to
+values, and on a 2-worker LocalCluster a tiny Khosravi box (H 0.1 m, grains x8, to
 Dis/H 0.001) over 2 seeds x 2 wall speeds (+ one refused speed): the same numbers, bit for
 bit, as the same points run one by one through ``Study.run``; a rerun skips every point;
 a killed worker's point is run again."""
@@ -22,7 +22,7 @@ from studies.sweep import (Point, build_points, expand, group_rows, lead_indices
                            run_point, run_sweep, stats)
 
 ROOT = Path(__file__).resolve().parents[2]
-TINY = ["H=0.1", "particles_scale=5", "wall_disp_over_H_max=0.001"]
+TINY = ["H=0.1", "particles_scale=8", "wall_disp_over_H_max=0.001"]
 VARY = ["seed=1..2", "wall_speed=0.004,0.008,-0.004"]      # -0.004: refused by the case
 
 
@@ -84,7 +84,7 @@ def test_cases_are_built_before_anything_runs():
     assert [b["error"] is None for b in built] == [True, True, False, True, True, False]
     assert re.match(r"wall_speed = '?-0\.004'? is not valid; expected a number >= ", built[2]["error"])
     assert built[0]["inputs"] == {"seed": 1, "wall_speed": 0.004}
-    assert built[0]["case"] == study.case(H=0.1, particles_scale=5, wall_disp_over_H_max=0.001, seed=1)
+    assert built[0]["case"] == study.case(H=0.1, particles_scale=8, wall_disp_over_H_max=0.001, seed=1)
     names = [b["name"] for b in built if b["name"]]
     assert len(set(names)) == 4 and names[0].startswith("seed1_wall_speed0.004-")
     with pytest.raises(InvalidParameter, match="unknown key"):
