@@ -1,4 +1,4 @@
-"""The CLI end to end on a tiny box (H = 0.1 m, grains 5x coarser): run folder, JSON
+"""The CLI end to end on a tiny box (H = 0.1 m, grains 8x coarser): run folder, JSON
 keys, specimen reuse, and one-line errors with exit code 2."""
 
 import json
@@ -8,7 +8,7 @@ import pytest
 
 import cli
 
-TINY = ["compare", "khosravi", "--H", "0.1", "--particles-scale", "5", "--set", "wall_disp_over_H_max=0.001",
+TINY = ["compare", "khosravi", "--H", "0.1", "--particles-scale", "8", "--set", "wall_disp_over_H_max=0.001",
         "--quiet", "--json"]
 
 
@@ -43,7 +43,7 @@ def test_compare_khosravi_writes_the_run_folder_and_reuses_the_specimen(capsys, 
                  f"particles reached: {res['particles']}"):
         assert line in config
     # coarse grains: one line says so and sets the run beside the full-size validation
-    assert res["scale_note"].startswith("reduced size: grains 5 x the paper's")
+    assert res["scale_note"].startswith("reduced size: grains 8 x the paper's")
     assert "at full size (61120 disks) 0.99 and 0.77" in res["scale_note"]
     man = json.loads((runs[0] / "manifest.json").read_text())
     for key in ("seed", "versions", "n_grains", "dt", "iterations", "friction", "wall_time_s"):
@@ -91,7 +91,7 @@ def test_validation_reads_fig9_from_a_free_fill(tmp_path):
     from studies.khosravi.case import KhosraviCase
     from studies.khosravi.compare import validate_khosravi
 
-    case = KhosraviCase(H=0.1, particles_scale=5, wall_disp_over_H_max=0.001)
+    case = KhosraviCase(H=0.1, particles_scale=8, wall_disp_over_H_max=0.001)
     assert case.pluviation.hold_depth > 0  # the study's default holds deep layers
     report = validate_khosravi(out_dir=tmp_path / "docs", root=tmp_path / "runs", quiet=True, case=case)
     bf = report["backfilling"]
