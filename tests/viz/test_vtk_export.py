@@ -64,7 +64,7 @@ def _run_folder(result: dict) -> Path:
 def test_dem3d_nadukuru_run_reads_back(tmp_path, monkeypatch):
     frames = _spy_frames(monkeypatch)
     s = get("nadukuru")
-    case = s.case(particles=1500, seed=3)
+    case = s.case(particles=1000, seed=3)
     result = s.run(case, out=str(tmp_path), vtk=True, no_rrd=True)
     folder = _run_folder(result)
     vtk = folder / "vtk"
@@ -123,7 +123,7 @@ def test_dem2d_khosravi_run_reads_back(tmp_path, monkeypatch):
     from studies.khosravi.case import KhosraviCase
 
     frames = _spy_frames(monkeypatch)
-    case = KhosraviCase(H=0.1, particles_scale=5, wall_disp_over_H_max=0.001)
+    case = KhosraviCase(H=0.1, particles_scale=8, wall_disp_over_H_max=0.001)
     result = get("khosravi").run(case, out=str(tmp_path), vtk=True, no_cache=True)
     folder = _run_folder(result)
     walls = _collection(folder / "vtk", "walls")
@@ -216,7 +216,7 @@ def test_calibrations_write_each_test_as_its_own_series(tmp_path):
         platens = _cell_array(wm, "force")            # opposite platens: the net is ~1e-3 of each
         assert np.abs(pm.point_data["force"].sum(axis=0) + platens.sum(axis=0)).max() < 1e-9 * np.abs(platens).max()
 
-    assert cli.main(["calibrate", "biaxial", "--friction", "0.3,0.5", "--particles-scale", "5", "--vtk",
+    assert cli.main(["calibrate", "biaxial", "--friction", "0.3,0.5", "--particles-scale", "8", "--vtk",
                      "--out", str(out), "--quiet"]) == 0
     run = next((out / "biaxial").iterdir())
     result = json.loads((run / "result.json").read_text())
