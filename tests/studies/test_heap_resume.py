@@ -1,7 +1,7 @@
 """Issue 38: an interrupted heap run resumed from its checkpoint ends exactly as the run
 would have without the interruption, bit for bit, and checkpointing does not perturb
-the run. At the reduced size of test_heap.py (SMALL: 1,000 spheres on a 1.2 m base,
-springs 25x softer; ~31,000 steps through all eight stages, ~5 s of one core a run)."""
+the run. At test_heap.py's RESUME_SIZE (600 spheres on a 1.2 m base, a 0.5 s flow,
+springs 25x softer: all eight stages, ~4.4 s of CPU a run on the 2-vCPU VM)."""
 
 import contextlib
 import io
@@ -17,12 +17,12 @@ from studies.heap import run as M
 from studies.heap.compare import CHECKPOINT, compare_heap
 from studies.runner import named_run, recorded_options
 from studies.store import load_npz, npz_bytes
-from tests.studies.test_heap import SMALL
+from tests.studies.test_heap import RESUME_SIZE
 
 #: the tables a run folder holds
 TABLES = ("base_stress.csv", "subsidence.csv", "surface.csv")
-#: SMALL as the command line gives it
-SETS = [f"{k}={v!r}" for k, v in SMALL.items()]
+#: RESUME_SIZE as the command line gives it
+SETS = [f"{k}={v!r}" for k, v in RESUME_SIZE.items()]
 #: wall and CPU times (result and stage log) differ between any two runs
 _TIMING = re.compile(r"(^|_)(cpu|wall)(_time)?_s$")
 
@@ -69,7 +69,7 @@ def test_a_resumed_heap_run_is_the_straight_one_bit_for_bit(monkeypatch):
     subsidence, the hold, the averaging after) it gives the same heap, stresses,
     subsidence history, stage log and frames, bit for bit. Engine calls of 200 steps
     here (the straight run's are 1,000): how the steps are cut does not change them."""
-    case = M.HeapCase(**SMALL)
+    case = M.HeapCase(**RESUME_SIZE)
     straight = M.run_heap(case)
     monkeypatch.setattr(M, "CHUNK_PARTICLE_STEPS", 200 * case.particles)
     states = []
@@ -101,9 +101,9 @@ def test_a_checkpoint_of_another_case_is_refused():
 
     states = []
     with pytest.raises(Stop):
-        M.run_heap(M.HeapCase(**SMALL), checkpoint=first, checkpoint_every_s=0.0)
+        M.run_heap(M.HeapCase(**RESUME_SIZE), checkpoint=first, checkpoint_every_s=0.0)
     with pytest.raises(InvalidParameter, match="resume"):
-        M.run_heap(M.HeapCase(**(SMALL | {"seed": 2})), resume=states[0])
+        M.run_heap(M.HeapCase(**(RESUME_SIZE | {"seed": 2})), resume=states[0])
 
 
 def _cli_result(argv: list[str]) -> dict:
@@ -145,7 +145,7 @@ def test_an_interrupted_compare_resumes_on_the_command_line_to_the_straight_runs
     assert not (straight_dir / "checkpoints").exists()
 
     case = get("heap").command().resolve(sets=SETS)
-    assert case == M.HeapCase(**SMALL)
+    assert case == M.HeapCase(**RESUME_SIZE)
     root = tmp_path / "resumed"
     folder = root / "heap" / "interrupted"
     with named_run("interrupted"), recorded_options({"rrd": None, "no_rrd": True}), \
@@ -153,7 +153,7 @@ def test_an_interrupted_compare_resumes_on_the_command_line_to_the_straight_runs
         compare_heap(case, root=root, record=False, progress=_CtrlC(folder / CHECKPOINT), checkpoint_every_s=0.0)
     assert not (folder / "result.json").exists()
     stage, done = M.checkpoint_stage(load_npz(folder / CHECKPOINT))
-    assert stage == "slump" and 0 < done < int(SMALL["slump_time"] / M.time_step(case))
+    assert stage == "slump" and 0 < done < int(RESUME_SIZE["slump_time"] / M.time_step(case))
 
     monkeypatch.setattr(M, "generate", _not_again)          # the resume goes on from the flow
     resumed = _cli_result(["compare", "heap", "--resume", str(folder)])

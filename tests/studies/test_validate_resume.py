@@ -5,7 +5,7 @@ its numbers bit for bit (times, paths and provenance aside).
 
 Two of the five at reduced size, a few seconds of one core a run: drystone case A on two
 walls with the limit-equilibrium band and no convergence repeat (one DEM run a wall),
-and the heap on two seeds at test_heap.py's SMALL size."""
+and the heap on two seeds at test_heap.py's RESUME_SIZE."""
 
 import re
 
@@ -13,7 +13,7 @@ import pytest
 
 import cli
 from studies.heap.case import HeapCase
-from tests.studies.test_heap import SMALL
+from tests.studies.test_heap import RESUME_SIZE
 
 #: what differs between any two commands: times, run folders, versions, dates
 _TIME = re.compile(r"(^|_)(wall|cpu)(_time)?_s$")
@@ -105,12 +105,12 @@ def test_an_interrupted_drystone_validation_goes_on_to_the_same_report(monkeypat
 
 @pytest.mark.slow
 def test_an_interrupted_heap_validation_goes_on_to_the_same_report(monkeypatch, tmp_path):
-    """Seeds 1 and 2 at SMALL size: interrupted in seed 2's run, the command again runs
+    """Seeds 1 and 2 at RESUME_SIZE: interrupted in seed 2's run, the command again runs
     seed 2 alone, in a clean folder (what an interrupted run left there removed first),
     and writes the uninterrupted command's heap.json."""
     import studies.heap.validate as V
 
-    argv = ["validate", "heap", "--seeds", "1,2", *[w for k, v in SMALL.items() for w in ("--set", f"{k}={v!r}")]]
+    argv = ["validate", "heap", "--seeds", "1,2", *[w for k, v in RESUME_SIZE.items() for w in ("--set", f"{k}={v!r}")]]
     seed = lambda case: case.seed        # noqa: E731
     straight = _counted(monkeypatch, V, "compare_heap", seed)
     assert _validate(monkeypatch, tmp_path / "straight", argv) == 0
@@ -126,9 +126,9 @@ def test_an_interrupted_heap_validation_goes_on_to_the_same_report(monkeypatch, 
     assert _validate(monkeypatch, tmp_path / "resumed", argv) == 130
     assert first == [1, 2]
     runs = tmp_path / "resumed" / "runs" / "heap"
-    assert (runs / V.run_name(HeapCase(**SMALL, seed=1)) / "result.json").is_file()
+    assert (runs / V.run_name(HeapCase(**RESUME_SIZE, seed=1)) / "result.json").is_file()
     # what an interrupted seed may leave: its config and a table written before the end
-    unfinished = runs / V.run_name(HeapCase(**SMALL, seed=2))
+    unfinished = runs / V.run_name(HeapCase(**RESUME_SIZE, seed=2))
     unfinished.mkdir(exist_ok=True)
     (unfinished / "config.toml").write_text("# an interrupted run's\n")
     (unfinished / "stale.csv").write_text("x\n1\n")
