@@ -79,6 +79,19 @@ def make_bonds(sim, gap: float, *, kn: float, ks: float, radius_multiplier: floa
     return nb
 
 
+def kernel_bonds(bnd: Bonds | None, n: int) -> Bonds:
+    """What the kernels take for ``bnd``: the bonds, or for none an empty Bonds over n
+    spheres (no bond, every sphere's index range empty), so one compiled kernel serves
+    both (kernels module docstring)."""
+    if bnd is not None:
+        return bnd
+    empty = np.zeros(0)
+    return Bonds(i=np.zeros(0, np.int64), j=np.zeros(0, np.int64), kn=empty, ks=empty, rb=empty, sigma_c=empty,
+                 tau_c=empty, state=np.zeros(0, np.uint8), fn=empty, fs=np.zeros((0, 3)), mt=empty,
+                 mb=np.zeros((0, 3)), out=np.zeros((0, 12)), start=np.zeros(n + 1, np.int64),
+                 entry=np.zeros(0, np.int64))
+
+
 def index_bonds(bnd: Bonds, n: int) -> Bonds:
     """Bonds with the per-sphere index (start, entry) rebuilt: sphere s's entries list
     2 b + side in increasing bond index b, so the gather order is fixed."""

@@ -26,7 +26,7 @@ from analytic.errors import InvalidParameter
 from . import bodies, bonds, checkpoint, kernels, neighbours
 from .errors import BlowUp
 from .params import N_PARAM_FIELDS, ContactParams, check_time_step, critical_time_step, material_table, pair_params
-from .state import Bonds, Pairs, PanelLoads, Periodic, Segments, Specimen, WallMotion, WallPairs
+from .state import NO_SEGMENTS, Bonds, Pairs, PanelLoads, Periodic, Segments, Specimen, WallMotion, WallPairs
 from .walls import Wall, WallSet
 
 
@@ -329,9 +329,9 @@ class Simulation:
             ran, time, status, count = kernels.advance(
                 self.spheres, self.clumps, self.pairs, self.wall_pairs, self.walls.panels, self.params,
                 self.dt, gx, gy, gz, pax, plen, self.skin, speed_limit2, motion, loads, todo, self.time,
-                self.mtab, self.use_f_ext, self.bonds,
-                self.attached if self.attached is not None else _NO_ATTACHED, self.rolling, segments,
-                True if self.direct_sums else None)
+                self.mtab, self.use_f_ext, bonds.kernel_bonds(self.bonds, self.n_spheres),
+                self.attached if self.attached is not None else _NO_ATTACHED, self.rolling,
+                NO_SEGMENTS if segments is None else segments, True if self.direct_sums else None)
             done += ran
             self.time = time
             self.step_count += ran
@@ -359,8 +359,8 @@ class Simulation:
         kernels.pair_forces(self.spheres, self.pairs, self.params, self.dt, pax, plen, self.mtab,
                             True if self.rolling else None, direct)
         kernels.gather_and_move(self.spheres, self.pairs, self.wall_pairs, self.walls.panels, self.params,
-                                self.dt, 0.0, 0.0, 0.0, 0.0, 0.0, False, self.mtab, self.use_f_ext, self.bonds,
-                                direct)
+                                self.dt, 0.0, 0.0, 0.0, 0.0, 0.0, False, self.mtab, self.use_f_ext,
+                                bonds.kernel_bonds(self.bonds, self.n_spheres), direct)
         if self.walls.n_panels:
             kernels.panel_loads(self.wall_pairs, self.walls.panels, self.panel_force, self.panel_moment)
         return self.spheres.f.copy(), self.spheres.t.copy()

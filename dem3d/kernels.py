@@ -27,10 +27,13 @@ bitwise independent of the thread count and of the scheduler):
 4. ``panel_loads``     serial: sums the wall-pair forces per panel (force on the panel and
                        moment about the panel centre).
 
-Optional features are passed as ``None`` when off (material table, bonds): numba compiles a separate specialisation for a None argument and
-prunes the ``is None`` branches, so a run without them executes the single-material code
-unchanged (tests/dem3d/test_pinning.py checks it bit for bit). External forces are a
-run-time flag (one predictable branch per sphere).
+The material table is passed as ``None`` when off: numba compiles a separate specialisation
+for a None argument and prunes the ``is None`` branches, so a run with one material
+executes the single-material code unchanged (tests/dem3d/test_pinning.py checks it bit for
+bit). Bonds and boundary segments are always passed, empty when off (a loop of no
+entries, one length check a step): each None variant of ``advance`` cost 40-100 s of
+compiling, and the empty loop adds nothing to any sum. External forces are a run-time
+flag (one predictable branch per sphere).
 
 The leapfrog (central difference, as PFC) uses v(t - dt/2) in the velocity-dependent
 forces at time t, then v(t + dt/2) = v(t - dt/2) + dt a(t), x(t + dt) = x(t) + dt v(t + dt/2).
@@ -606,8 +609,9 @@ def _panel_contact(sph, wps, pan, prm, mtab, dt, need_m, i, k, w_act, w_ut, w_ou
 def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_limit2, integrate,
                     mtab, has_fext, bnd, direct=None):
     """Pass 2 (see module docstring): total contact force and torque per sphere (starting
-    from pass 1's partial sums in sph.f / sph.t), bond forces (``bnd``: None or Bonds,
-    from ``bond_forces``, gathered per sphere in increasing bond order), wall contacts,
+    from pass 1's partial sums in sph.f / sph.t), bond forces (``bnd``: Bonds, empty for
+    none, ``bonds.kernel_bonds``; from ``bond_forces``, gathered per sphere in increasing
+    bond order), wall contacts,
     the external force sph.f_ext (if ``has_fext``), and the leapfrog update of free
     spheres (if ``integrate``). Must follow ``pair_forces``. ``mtab`` as in pair_forces
     (panel material sph.mat / pan.mat; the pair's friction replaces the panel's mu).
@@ -634,6 +638,7 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
     x_ref = sph.x_ref
     alpha = prm.local_damping
     need_m = prm.damping == RATIO
+    has_bonds = bnd.i.shape[0] > 0
     n_moved = 0
     n_bad = 0
     n_fast = 0
@@ -653,7 +658,7 @@ def gather_and_move(sph, prs, wps, pan, prm, dt, gx, gy, gz, ref_limit2, speed_l
                 tx += pf[kk, 3]
                 ty += pf[kk, 4]
                 tz += pf[kk, 5]
-        if bnd is not None:
+        if has_bonds:
             for kk in range(bnd.start[i], bnd.start[i + 1]):
                 e = bnd.entry[kk]
                 b = e >> 1
@@ -1163,10 +1168,11 @@ def scan_pairs(x, r, clump, cell, cell_start, order, xr, clump_sorted, nc, pax, 
     spheres in cell order (order[k] is the sphere at position k), so candidates are read
     contiguously. rows: (n, cap) output; counts: (n,) output, which may exceed cap: then
     the rows overflowed and the caller must grow cap and scan again. Cells are visited in
-    a fixed order, so row contents are deterministic. ``bnd`` (None or Bonds): pairs with
-    an intact bond are left out (the bond replaces the contact law until it breaks)."""
+    a fixed order, so row contents are deterministic. ``bnd`` (Bonds, empty for none): pairs
+    with an intact bond are left out (the bond replaces the contact law until it breaks)."""
     n = x.shape[0]
     cap = rows.shape[1]
+    has_bonds = bnd.i.shape[0] > 0
     for i in prange(n):
         cx, cy, cz = _cell_coords(cell[i], nc)
         xi = x[i, 0]
@@ -1204,9 +1210,8 @@ def scan_pairs(x, r, clump, cell, cell_start, order, xr, clump_sorted, nc, pax, 
                     j = order[kk]
                     if o == 0 and j <= i:
                         continue
-                    if bnd is not None:
-                        if bonded(bnd, i, j):
-                            continue
+                    if has_bonds and bonded(bnd, i, j):
+                        continue
                     if cnt < cap:
                         rows[i, cnt] = j
                     cnt += 1
@@ -1585,14 +1590,15 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     walls: ``state.WallMotion`` (the motion samples of each step: only rows of moving
     walls are read); loads: ``state.PanelLoads`` (the last step's panel loads and, with
     rows, every step's).
-    mtab, has_fext, bnd: material table or None, external forces on/off, Bonds or None
-    (pair_forces, gather_and_move, bond_forces); bonds are evaluated first in each step.
+    mtab, has_fext, bnd: material table or None, external forces on/off, Bonds (empty for
+    none, ``bonds.kernel_bonds``: a runtime check, not a specialisation, so runs with and
+    without bonds share one compiled advance); bonds are evaluated first in each step.
     att: (spheres, walls) int64 arrays of spheres carried by moving walls, empty for none
     (``move_attached``, after the spheres move, before the walls do; one check per step,
     so it is not a separate specialisation).
     rolling: some contact has rolling resistance (``pair_forces`` then sums the moments).
-    seg: ``state.Segments`` or None: boundary segments whose velocity each step sets for
-    the next (``segments_velocity``, after the walls move; written into the next step's
+    seg: ``state.Segments`` (empty for none, ``state.NO_SEGMENTS``; a runtime check, as
+    for bonds): boundary segments whose velocity each step sets for the next (``segments_velocity``, after the walls move; written into the next step's
     rows of ``walls``).
     direct: None or True, as in pair_forces and gather_and_move.
     Returns (steps_done, time, status, count): stops early with STATUS_REBUILD after a step
@@ -1616,7 +1622,7 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
     integrate = n_steps >= 0
     for s in range(n_steps):
         broken = 0
-        if bnd is not None:
+        if bnd.i.shape[0] > 0:
             broken = bond_forces(sph, bnd, dt, pax, plen)
         if rolling:
             pair_forces(sph, prs, prm, dt, pax, plen, mtab, rolling, direct)
@@ -1638,7 +1644,7 @@ def advance(sph, clu, prs, wps, pan, prm, dt, gx, gy, gz, pax, plen, skin, speed
                 hist_moment[s] = panel_moment
             if any_moving:
                 move_walls(pan, wall_of_panel, moving, pivot, axis, om_mid[s], v_mid[s], om_end[s], v_end[s], dt)
-            if seg is not None:
+            if seg.wall.shape[0] > 0:
                 segments_velocity(seg, panel_force, dt)
                 if s + 1 < n_steps:
                     for g in range(seg.wall.shape[0]):

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import kernels
 from .bodies import gather_ranges
-from .bonds import index_bonds
+from .bonds import index_bonds, kernel_bonds
 from .state import Clumps, Pairs, Spheres, WallPairs
 
 
@@ -167,7 +167,7 @@ def rebuild(sim, first: bool = False, new_to_old: np.ndarray | None = None) -> N
     clump_sorted = sph.clump[order]
     while True:      # fixed-capacity rows; on overflow (checked here) grow and scan again
         kernels.scan_pairs(sph.x, sph.r, sph.clump, cell, cell_start, order, xr, clump_sorted, nc, pax,
-                           plen, sim.skin, kernels._FORWARD, sim._rows, counts, sim.bonds)
+                           plen, sim.skin, kernels._FORWARD, sim._rows, counts, kernel_bonds(sim.bonds, n))
         widest = int(counts.max()) if n else 0
         if widest <= sim._rows.shape[1]:
             break

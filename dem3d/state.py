@@ -288,3 +288,10 @@ class Segments(NamedTuple):
     traction: np.ndarray
     dashpot: np.ndarray
     velocity: np.ndarray
+
+
+#: no boundary segments (``kernels.advance`` takes a Segments always: an empty one is a
+#: loop of no entries, not a second compiled variant)
+NO_SEGMENTS = Segments(wall=np.zeros(0, np.int64), panel_start=np.zeros(1, np.int64), panel=np.zeros(0, np.int64),
+                       frame=np.zeros((0, 3, 3)), mass=np.zeros(0), area=np.zeros(0), impedance=np.zeros((0, 3)),
+                       traction=np.zeros((0, 3)), dashpot=np.zeros((0, 3)), velocity=np.zeros((0, 3)))
