@@ -262,7 +262,7 @@ class BlockWall:
         blocks = self._wet_arrays[4]
         pos = np.array([tuple(self.bodies[i].position) for i in blocks])
         ang = np.array([self.bodies[i].angle for i in blocks])
-        return (blocks, *self._face_loads(pos, ang))
+        return (blocks, *self._face_loads(pos, ang, *self._new_loads()))
 
     def advance(self, seconds: float) -> None:
         """Step for ``seconds``, re-applying the water load every step (pymunk clears
@@ -270,10 +270,11 @@ class BlockWall:
         n = max(int(round(seconds / self.solver.dt)), 1)
         dt = self.solver.dt
         batch = BodyBatch(self.space, [self.bodies[i] for i in self._wet_arrays[4]]) if self._wetted() else None
+        loads = self._new_loads() if batch is not None else None
         with sigint_between_steps() as marks:
             for _ in range(n):
                 if batch is not None:
-                    batch.write(*self._face_loads(*batch.read()))
+                    batch.write(*self._face_loads(*batch.read(), *loads))
                 self.space.step(dt)
                 if marks:
                     raise KeyboardInterrupt
@@ -288,11 +289,17 @@ class BlockWall:
             self._wet_arrays = _wet_arrays(self.wet)
         return True
 
-    def _face_loads(self, pos: np.ndarray, ang: np.ndarray):
-        """(forces (q,2), torques (q,)) on the wet blocks at positions ``pos``, angles ``ang``."""
-        _, a, b, n0, blocks, slot = self._wet_arrays
-        return face_loads(pos, ang, a, b, n0, slot, len(blocks), float(self.water_height),
-                          self.direction == "normal")
+    def _new_loads(self) -> tuple[np.ndarray, np.ndarray]:
+        """Arrays for the wet blocks' forces (q,2) and torques (q,)."""
+        q = len(self._wet_arrays[4])
+        return np.zeros((q, 2)), np.zeros(q)
+
+    def _face_loads(self, pos: np.ndarray, ang: np.ndarray, force: np.ndarray, torque: np.ndarray):
+        """``force`` (q,2) and ``torque`` (q,) on the wet blocks at positions ``pos``,
+        angles ``ang``, filled in and returned."""
+        _, a, b, n0, _, slot = self._wet_arrays
+        face_loads(pos, ang, a, b, n0, slot, float(self.water_height), self.direction == "normal", force, torque)
+        return force, torque
 
     def contact_forces(self) -> tuple[np.ndarray, np.ndarray]:
         """Contact points (m,2) [m] and normal force magnitudes (m,) [N/m] of every

@@ -18,7 +18,7 @@ from analytic.constants import GAMMA_WATER
 
 
 @njit(cache=True)
-def face_loads(pos, ang, a, b, n0, slot, n_blocks, water_height, normal):
+def face_loads(pos, ang, a, b, n0, slot, water_height, normal, force_b, torque_b):
     """Hydrostatic pressure gamma_w (h_w - y) on every wetted face, integrated along the
     face and put at its centre of pressure, summed per block.
 
@@ -26,13 +26,14 @@ def face_loads(pos, ang, a, b, n0, slot, n_blocks, water_height, normal):
     its block's frame [m]; n0 (m,2): the face's normal as built; slot (m,): each face's
     block among the q; water_height h_w [m]; normal: push along the face's normal as it
     is now (True) or as built (False), into the block.
-    Returns forces (q,2) [N/m] and torques about the block centroids (q,) [N m/m]. Each
+    Writes forces (q,2) [N/m] into ``force_b`` and torques about the block centroids
+    (q,) [N m/m] into ``torque_b`` (given, so a step allocates nothing). Each
     face is clipped at the water line (pressure linear along it, zero at the surface);
     a trapezoid's centre of pressure lies (p_a + 2 p_b) / (3 (p_a + p_b)) of the way
     from a to b. The operations are numpy's of the earlier version, in its order, so
     the bits are the same."""
-    force_b = np.zeros((n_blocks, 2))
-    torque_b = np.zeros(n_blocks)
+    force_b[:] = 0.0
+    torque_b[:] = 0.0
     for k in range(slot.shape[0]):
         q = slot[k]
         c = math.cos(ang[q])
@@ -74,7 +75,6 @@ def face_loads(pos, ang, a, b, n0, slot, n_blocks, water_height, normal):
         force_b[q, 0] += fx
         force_b[q, 1] += fy
         torque_b[q] += rx * fy - ry * fx
-    return force_b, torque_b
 
 
 _READ = pb.BodyFields.BODY_ID | pb.BodyFields.POSITION | pb.BodyFields.ANGLE
