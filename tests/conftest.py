@@ -80,3 +80,27 @@ def interruptible(args: list, **kwargs):
                 else:
                     proc.kill()
             proc.wait()
+
+
+@pytest.fixture(scope="session")
+def seismic_static_cache(tmp_path_factory):
+    """A function ``(case, root) -> Prepared``: the static state of a seismic ``case``,
+    prepared once per test run and copied into ``root/seismic/cache`` (the folder that
+    ``compare_seismic`` and ``frequency_run`` under ``root`` read), so the tests that
+    shake the same small model do not each rain and settle it again (~10 s apiece).
+    The run's workers share one cache: under pytest-xdist each worker's base temp
+    lies in one folder of this run. The store writes atomically, so two workers that
+    prepare the same case at once both write the same state; the seed test compares a
+    fresh preparation with the cached one bit for bit."""
+    import shutil
+
+    from studies.seismic.run import prepare
+    base = tmp_path_factory.getbasetemp()
+    shared = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "seismic-static-cache"
+
+    def prepared(case, root=None):
+        prep = prepare(case, shared)
+        if root is not None:
+            shutil.copytree(shared, Path(root) / "seismic" / "cache", dirs_exist_ok=True)
+        return prep
+    return prepared

@@ -23,9 +23,9 @@ TINY = dict(grain_scale=3.0, retained_height=0.06, front_height=0.045, wall_leng
 
 
 @pytest.fixture(scope="module")
-def tiny():
+def tiny(seismic_static_cache):
     case = SeismicCase(**TINY)
-    return case, prepare(case, None)
+    return case, seismic_static_cache(case)
 
 
 @pytest.mark.parametrize("resolution", ["coarse", "paper"])

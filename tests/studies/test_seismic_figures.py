@@ -60,10 +60,11 @@ def _csv(path):
 
 
 @pytest.fixture(scope="module")
-def tiny_run(tmp_path_factory):
+def tiny_run(tmp_path_factory, seismic_static_cache):
     from studies.seismic.compare import compare_seismic
     root = tmp_path_factory.mktemp("seismic")
     case = SeismicCase(**TINY)
+    seismic_static_cache(case, root)
     result, folder = compare_seismic(case, root=root, record=True, strain_times=(0.05, 0.15, 9.0))
     return case, result, folder
 

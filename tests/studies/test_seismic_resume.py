@@ -12,7 +12,7 @@ import pytest
 from studies.runner import named_run
 from studies.seismic.case import SeismicCase
 from studies.seismic.compare import CHECKPOINT, compare_seismic
-from studies.seismic.run import prepare, shake
+from studies.seismic.run import shake
 from studies.store import load_npz, npz_bytes
 from tests.studies.test_seismic import TINY
 
@@ -25,12 +25,12 @@ NOT_PHYSICS = ("wall_time_s", "stage_seconds", "run_folder", "resources", "shake
 
 
 @pytest.fixture(scope="module")
-def tiny(tmp_path_factory):
+def tiny(tmp_path_factory, seismic_static_cache):
     """The case, and a root whose static-state cache holds it (every run below starts
-    from the same static state, prepared once)."""
+    from the same static state, prepared once for the test run)."""
     case = SeismicCase(**TINY)
     root = tmp_path_factory.mktemp("seismic_resume")
-    return case, prepare(case, root / "seismic" / "cache"), root
+    return case, seismic_static_cache(case, root), root
 
 
 def _same_shaking(a, b) -> None:

@@ -90,7 +90,7 @@ def test_dem3d_nadukuru_run_reads_back(tmp_path, monkeypatch):
         assert np.array_equal(_cell_array(cm, "normal_force").ravel(), frame.contact_force)
 
 
-def test_dem3d_bonds_are_lines_of_their_own(tmp_path):
+def test_dem3d_bonds_are_lines_of_their_own(tmp_path, seismic_static_cache):
     """The seismic sheet pile's bonded balls: every intact bond is a line with bonded = 1
     after the touching pairs (bonded = 0), carrying the bond's own forces."""
     from studies.seismic.case import SeismicCase
@@ -98,6 +98,7 @@ def test_dem3d_bonds_are_lines_of_their_own(tmp_path):
     from studies.runner import command_envelope
     from tests.studies.test_seismic import TINY
 
+    seismic_static_cache(SeismicCase(**TINY), tmp_path)
     frames = []
     original = VtkSeries.write_frame
 
