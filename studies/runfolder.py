@@ -121,19 +121,36 @@ def _new_folder(parent: Path, stem: str) -> Path:
 _USED_HEADER = "# what the run used:"
 
 
-def _earlier_sessions(path: Path) -> list[dict]:
-    """The sessions of an interrupted run's manifest (a manifest written at a checkpoint,
-    or one from before sessions were kept: its command and times as one session)."""
-    if not path.is_file():
-        return []
-    try:
-        old = json.loads(path.read_text())
-    except (OSError, ValueError):
-        return []
-    if "sessions" in old:
-        return list(old["sessions"])
-    return [{"command": old.get("command", "?"), "started": old.get("created", "?"), "git": old.get("git", "?"),
-             "wall_time_s": old.get("wall_time_s", 0.0), "cpu_time_s": old.get("cpu_time_s", 0.0)}]
+#: a run's sessions so far, beside its checkpoints: a session stopped after a checkpoint
+#: leaves its times there, and the session that resumes the run counts them
+SESSIONS = "checkpoints/sessions.json"
+
+
+def _earlier_sessions(folder: Path) -> list[dict]:
+    """The sessions of an interrupted run: those its checkpoints recorded (``SESSIONS``),
+    else those of its manifest (or, in a manifest from before sessions were kept, its
+    command and times as one session)."""
+    for name in (SESSIONS, "manifest.json"):
+        path = folder / name
+        if not path.is_file():
+            continue
+        try:
+            old = json.loads(path.read_text())
+        except (OSError, ValueError):
+            continue
+        if "sessions" in old:
+            return list(old["sessions"])
+        return [{"command": old.get("command", "?"), "started": old.get("created", "?"), "git": old.get("git", "?"),
+                 "wall_time_s": old.get("wall_time_s", 0.0), "cpu_time_s": old.get("cpu_time_s", 0.0)}]
+    return []
+
+
+def _drop_sessions(folder: Path) -> None:
+    """Remove ``SESSIONS`` and its folder when nothing else is left in it."""
+    path = folder / SESSIONS
+    path.unlink(missing_ok=True)
+    if path.parent.is_dir() and not any(path.parent.iterdir()):
+        path.parent.rmdir()
 
 
 #: run-folder locks this process holds: lock file -> [descriptor, holds]
@@ -228,6 +245,7 @@ class RunFolder:
         self.case = case
         self.seed = seed
         self._start_clocks()
+        self._earlier = []          # a new run: whatever a folder of that name held is not its past
 
     @classmethod
     def existing(cls, path: str | Path, seed: int | None = None) -> "RunFolder":
@@ -255,13 +273,37 @@ class RunFolder:
         self.started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
         self.git = git_revision()       # the code this process runs, even if HEAD moves on
         self.load_at_start = _load_average()
+        self._earlier = _earlier_sessions(self.path)
+
+    def session(self) -> dict:
+        """This session so far: its command, start, git revision, wall and CPU time [s]
+        and the process's peak resident memory [MB] (Linux reports ru_maxrss in kB)."""
+        import resource
+        return {"command": " ".join(sys.argv), "started": self.started, "git": self.git,
+                "wall_time_s": round(self.wall_time, 3), "cpu_time_s": round(time.process_time() - self._cpu0, 3),
+                "peak_memory_MB": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
 
     def resources(self) -> dict:
-        """Wall and CPU time of this run (this session of it, when resumed) [s] and the
-        process's peak resident memory [MB] (Linux reports ru_maxrss in kB)."""
-        import resource
-        return {"wall_time_s": round(self.wall_time, 3), "cpu_time_s": round(time.process_time() - self._cpu0, 3),
-                "peak_memory_MB": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)}
+        """Wall and CPU time of the whole run [s], every session of a resumed one added
+        (each stopped session up to its last checkpoint: what it did after that is done
+        again and counted once, by the session that resumed it), the largest peak
+        resident memory of a session [MB], and the number of sessions."""
+        sessions = self._earlier + [self.session()]
+        return {"wall_time_s": round(math.fsum(s["wall_time_s"] for s in sessions), 3),
+                "cpu_time_s": round(math.fsum(s["cpu_time_s"] for s in sessions), 3),
+                "peak_memory_MB": max(s.get("peak_memory_MB", 0.0) for s in sessions),
+                "sessions": len(sessions)}
+
+    def save_checkpoint(self, name: str, blob: bytes) -> Path:
+        """Write checkpoint ``name`` (e.g. "checkpoints/shake.npz") and ``checkpointed()``."""
+        path = atomic_write(self.file(name), blob)
+        self.checkpointed()
+        return path
+
+    def checkpointed(self) -> None:
+        """Record this session's times so far beside a checkpoint just saved (``SESSIONS``),
+        so that a run stopped after it and resumed counts them in its ``resources()``."""
+        self.write_json(SESSIONS, {"sessions": self._earlier + [self.session()]})
 
     def file(self, name: str) -> Path:
         p = self.path / name
@@ -288,10 +330,7 @@ class RunFolder:
         """Provenance: package versions, git revision, host, seed, wall time. A resumed
         run keeps every session: ``sessions`` lists each one's command, start, git
         revision and times, and the totals add them up."""
-        session = {"command": " ".join(sys.argv), "started": self.started, "git": self.git,
-                   **self.resources()}
-        earlier = _earlier_sessions(self.path / "manifest.json")
-        sessions = earlier + [session]
+        sessions = self._earlier + [self.session()]
         man = {
             "case": self.case,
             "seed": self.seed,
@@ -312,7 +351,9 @@ class RunFolder:
             "cpu_time_s": math.fsum(s["cpu_time_s"] for s in sessions),
             "sessions": sessions,
         }
-        return self.write_json("manifest.json", man)
+        path = self.write_json("manifest.json", man)
+        _drop_sessions(self.path)           # the manifest holds them now
+        return path
 
     def write_json(self, name: str, obj) -> Path:
         """JSON with NaN and inf as null (JSON has neither)."""

@@ -289,7 +289,6 @@ def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, 
     from viz.recorder import Layout, Series
 
     from ..runner import drop_checkpoint, finish, open_recording, open_run_folder
-    from ..store import atomic_write
 
     folder = open_run_folder("drystone", case, root, seed=case.backfill.seed, resume=resume)
     saved = folder.path / CHECKPOINT
@@ -311,7 +310,7 @@ def compare_backfill(case: DrystoneCase, *, root: Path, rrd: str | None = None, 
             progress(r["backfill_height_m"], r["crest_displacement_m"], r)
 
     try:
-        run = run_backfill(case, on_stage=on_stage, checkpoint=lambda blob: atomic_write(folder.file(CHECKPOINT), blob),
+        run = run_backfill(case, on_stage=on_stage, checkpoint=lambda blob: folder.save_checkpoint(CHECKPOINT, blob),
                            resume=state)
         if rec.enabled and run["stages"]:
             _backfill_frame(rec, run["bw"], run["stages"][-1], at_failure=True)

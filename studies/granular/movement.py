@@ -14,7 +14,7 @@ import time as _time
 from dataclasses import dataclass
 from pathlib import Path
 from types import SimpleNamespace
-from typing import Iterator
+from typing import Callable, Iterator
 
 import numpy as np
 
@@ -166,13 +166,14 @@ def steady_disp_over_H(disp: np.ndarray, K: np.ndarray, window: float = 0.05) ->
 
 def run_modes(case: WallCase, specimen: Specimen, *, on_sample=None, on_frame=None,
               frame_every: int = 0, progress=None, checkpoint_path: Path | None = None,
-              checkpoint_every_s: float = 300.0) -> dict:
+              checkpoint_every_s: float = 300.0, on_checkpoint: Callable[[], None] | None = None) -> dict:
     """Move the wall and collect the load history; returns arrays and the active-state
     figures (K and resultant_height_over_H averaged over the last 10 % of the movement).
 
     With ``checkpoint_path`` the engine state and the history so far are saved there
-    every ``checkpoint_every_s`` seconds, and an existing checkpoint is resumed from:
-    an interrupted run continues where it stopped instead of starting over."""
+    every ``checkpoint_every_s`` seconds (``on_checkpoint()`` after each: the run folder
+    records the session's times), and an existing checkpoint is resumed from: an
+    interrupted run continues where it stopped instead of starting over."""
     samples: list[LoadSample] = []
     resume = None
     if checkpoint_path is not None and Path(checkpoint_path).exists():
@@ -191,6 +192,8 @@ def run_modes(case: WallCase, specimen: Specimen, *, on_sample=None, on_frame=No
                 "hist.normal": [s.thrust_kN for s in samples], "hist.shear": [s.shear_kN for s in samples],
                 "hist.seg": np.array([s.segment_stress for s in samples])}
         atomic_write(checkpoint_path, npz_bytes({**state, **{k: np.asarray(v) for k, v in hist.items()}}))
+        if on_checkpoint is not None:
+            on_checkpoint()
 
     for sample, frame in move_wall(case, specimen, frame_every=frame_every, progress=progress, resume=resume,
                                    checkpoint=save if checkpoint_path is not None else None,

@@ -16,7 +16,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..runner import Stopwatch, drop_checkpoint, finish, open_recording, open_run_folder
-from ..store import atomic_write, load_npz, npz_bytes
+from ..store import load_npz, npz_bytes
 from analytic.constants import G
 
 from .case import HeapCase, bin_centres
@@ -67,7 +67,7 @@ def compare_heap(case: HeapCase, *, root: Path = Path("runs"), rrd: Path | None 
         recorder.log_frame(frame, wall_disp_over_H=disp)
 
     def save(arrays: dict) -> None:
-        atomic_write(folder.file(CHECKPOINT), npz_bytes(arrays))
+        folder.save_checkpoint(CHECKPOINT, npz_bytes(arrays))
 
     try:
         with clock("run"):

@@ -33,7 +33,7 @@ from studies.report import theory_row
 from studies.runfolder import RunFolder, package_versions
 from studies.runner import (Stopwatch, drop_checkpoint, finish, has_config, open_recording, open_run_folder,
                             run_once)
-from studies.store import Store, atomic_write, content_key, to_plain
+from studies.store import Store, content_key, to_plain
 
 from .specimen import settled_box, specimen_key
 from .theories import theories
@@ -100,7 +100,7 @@ def compare_khosravi(case: KhosraviCase, *, root: str | Path = "runs", rrd: bool
             corner_chains(run, rf.file("fig11_corner_chains.png"))
 
         def keep(blob: bytes) -> None:
-            atomic_write(rf.file(CHECKPOINT), pickle.dumps({"run": blob, "specimen_reused": reused}))
+            rf.save_checkpoint(CHECKPOINT, pickle.dumps({"run": blob, "specimen_reused": reused}))
 
         with clock("translation_s"):
             run = _translate(run, rest, recorder, bar, frames, clock, keep)

@@ -171,7 +171,7 @@ def _move(case: NadukuruCase, spec, rf, frame_every: int, fields: str | None, pr
 
     tm = time.perf_counter()
     hist = run_modes(case, spec, frame_every=frame_every, progress=progress, on_frame=on_frame,
-                     checkpoint_path=rf.file("checkpoints/movement.npz"))
+                     checkpoint_path=rf.file("checkpoints/movement.npz"), on_checkpoint=rf.checkpointed)
     seconds = time.perf_counter() - tm
     rec.close()
     atomic_write(rf.path / "history.npz", npz_bytes({k: np.asarray(hist[k]) for k in _HISTORY}

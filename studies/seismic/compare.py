@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..runner import Stopwatch, drop_checkpoint, finish, open_run_folder
-from ..store import atomic_write, load_npz, npz_bytes
+from ..store import load_npz, npz_bytes
 from .case import SeismicCase
 from .measures import (STRAIN_CELL_GRAINS, STRAIN_MIN_GRAINS, STRAIN_TIMES, mononobe_okabe_overlay, period_mean,
                        rotation_fit, row_moments, settlement, shear_strain_map, unit_weight)
@@ -190,7 +190,7 @@ def compare_seismic(case: SeismicCase, *, root: Path, fraction: float = 1.0, log
         log(f"resuming the shaking after {checkpoint_samples(state)} readings")
 
     def save(arrays: dict) -> None:
-        atomic_write(folder.file(CHECKPOINT), npz_bytes(arrays))
+        folder.save_checkpoint(CHECKPOINT, npz_bytes(arrays))
 
     with clock("prepare"):
         prepared = prepare(case, Path(root) / "seismic" / "cache", log=log)

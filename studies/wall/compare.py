@@ -98,7 +98,8 @@ def _move_and_record(case: WallStudyCase, spec, recorder, every: int, progress, 
 
     frame_every = max(1, every) * case.movement.record_every * 10
     hist = run_modes(case, spec, on_sample=on_sample, on_frame=on_frame, frame_every=frame_every,
-                     progress=progress, checkpoint_path=folder.file("checkpoints/movement.npz"))
+                     progress=progress, checkpoint_path=folder.file("checkpoints/movement.npz"),
+                     on_checkpoint=folder.checkpointed)
     if frames:
         f0, f1 = frames["first"], frames["last"]
         recorder.log_displacement(f0.positions, f1.positions, step=f1.step, time=f1.time,

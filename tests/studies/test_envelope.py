@@ -115,7 +115,8 @@ def test_a_run_folder_has_the_users_umask_and_one_result_write(tmp_path, monkeyp
     assert set(modes.values()) == {0o644}, modes
     assert writes.count("result.json") == 1
     result = json.loads((folder / "result.json").read_text())
-    assert set(result["resources"]) == {"wall_time_s", "cpu_time_s", "peak_memory_MB"}
+    assert set(result["resources"]) == {"wall_time_s", "cpu_time_s", "peak_memory_MB", "sessions"}
+    assert result["resources"]["sessions"] == 1
     config = (folder / "config.toml").read_text()
     assert "#   frictions_deg: flag --friction" in config and "#   slender_widths_m: --set" in config
 
@@ -133,6 +134,33 @@ def test_a_resumed_manifest_keeps_every_session(tmp_path):
     assert man["wall_time_s"] == pytest.approx(sum(s["wall_time_s"] for s in man["sessions"]))
     config = (first.path / "config.toml").read_text()
     assert "#   dt: --set" in config and "# what the run used:\n#   time step 0.0005 s" in config
+
+
+def test_a_resumed_run_counts_the_time_its_stopped_session_checkpointed(tmp_path):
+    """A session stopped by a kill writes no manifest: its times up to its last checkpoint
+    are what the checkpoint recorded beside it, and the run's resources add them."""
+    import time
+
+    from studies.runfolder import SESSIONS, RunFolder
+
+    first = RunFolder("tilt", None, root=tmp_path)
+    first.write_config(studies.get("tilt").command().default_case())
+    start = time.process_time()
+    while time.process_time() - start < 0.05:       # some CPU before the checkpoint
+        pass
+    first.save_checkpoint("checkpoints/state.bin", b"state")
+    stopped = json.loads((first.path / SESSIONS).read_text())["sessions"]
+    assert len(stopped) == 1 and stopped[0]["cpu_time_s"] >= 0.05
+
+    again = RunFolder.existing(first.path)
+    total = again.resources()
+    assert total["sessions"] == 2
+    assert total["cpu_time_s"] >= stopped[0]["cpu_time_s"]
+    (first.path / "checkpoints" / "state.bin").unlink()      # finished: the study drops its checkpoint
+    man = json.loads(again.write_manifest().read_text())
+    assert [s["cpu_time_s"] for s in man["sessions"]][0] == stopped[0]["cpu_time_s"]
+    assert man["cpu_time_s"] == pytest.approx(sum(s["cpu_time_s"] for s in man["sessions"]))
+    assert not (first.path / "checkpoints").exists()          # the manifest holds the sessions now
 
 
 def test_an_interrupted_sweep_claims_only_what_exists(tmp_path):

@@ -9,6 +9,7 @@ import json
 import numpy as np
 import pytest
 
+from studies.runfolder import SESSIONS
 from studies.runner import named_run
 from studies.seismic.case import SeismicCase
 from studies.seismic.compare import CHECKPOINT, compare_seismic
@@ -130,6 +131,8 @@ def test_an_interrupted_compare_resumes_to_the_straight_runs_numbers(tiny):
     assert not (folder / "result.json").exists()
     saved = load_npz(folder / CHECKPOINT)
     assert 0 < int(saved["shake/done"]) < int(saved["shake/total"])
+    stopped = json.loads((folder / SESSIONS).read_text())["sessions"]
+    assert len(stopped) == 1 and stopped[0]["cpu_time_s"] > 0
     again = get("seismic").command().resolve(resume=str(folder), study="seismic")
     assert again == case
 
@@ -142,6 +145,12 @@ def test_an_interrupted_compare_resumes_to_the_straight_runs_numbers(tiny):
     for name in TABLES:
         assert (folder / name).read_bytes() == (straight_dir / name).read_bytes(), name
     assert json.loads((folder / "result.json").read_text())["steps"] == straight["steps"]
+    # the run's CPU is both sessions': the stopped one's up to its last checkpoint, then the resumed one's
+    manifest = json.loads((folder / "manifest.json").read_text())
+    assert [s["cpu_time_s"] for s in manifest["sessions"]][:1] == [stopped[0]["cpu_time_s"]]
+    assert resumed["resources"]["sessions"] == 2
+    assert resumed["resources"]["cpu_time_s"] == pytest.approx(sum(s["cpu_time_s"] for s in manifest["sessions"]),
+                                                               abs=0.5)
 
 
 def _physics(result: dict) -> str:
