@@ -33,7 +33,12 @@ executes the single-material code unchanged (tests/dem3d/test_pinning.py checks 
 bit). Bonds and boundary segments are always passed, empty when off (a loop of no
 entries, one length check a step): each None variant of ``advance`` cost 40-100 s of
 compiling, and the empty loop adds nothing to any sum. External forces are a run-time
-flag (one predictable branch per sphere).
+flag (one predictable branch per sphere). The material table and the direct sums stay
+specialisations (measured 2026-11-29, ``benchmarks/dem3d_compile_time.py`` and
+``dem3d_dynamics_speed.py``): as runtime flags one ``advance`` served all four kinds, but
+the plain model stepped 6 % slower; with the flags made constants in each call of the
+pair law (four inlined copies) the loss fell to 2-4 % and the first kind compiled in 108 s
+of CPU against 44 s here (all four: 140 s here), so a user's first study would wait longer.
 
 The leapfrog (central difference, as PFC) uses v(t - dt/2) in the velocity-dependent
 forces at time t, then v(t + dt/2) = v(t - dt/2) + dt a(t), x(t + dt) = x(t) + dt v(t + dt/2).
