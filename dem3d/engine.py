@@ -65,9 +65,11 @@ class Simulation:
     direct_sums:    add each pair's force on its second sphere to that sphere during the
                     contact pass, in an order fixed by slabs of cell layers (kernels
                     ``pair_forces``, ``direct``), instead of through per-pair rows that
-                    the second pass gathers: the same forces to rounding, other bits, the
-                    two passes ~0.8 of the time on the seismic model; still independent of
-                    the thread count. Off by default until the studies are re-run with it.
+                    the second pass gathers: the same forces to rounding, other bits; a
+                    whole step 1.04 times faster on the seismic model and no faster on the
+                    plain benchmark, measured in separate runs (docs/validation/
+                    seismic_step_speed_direct_sums.json, dem3d_bench_quiet.json); still
+                    independent of the thread count. Off by default.
     """
 
     def __init__(self, specimen: Specimen, params: ContactParams, *, dt: float,
