@@ -56,9 +56,22 @@ def package_versions() -> dict[str, str]:
     return out
 
 
+#: each checkout's revision as this process first read it (``git_revision``)
+_REVISIONS: dict[Path, str] = {}
+
+
 def git_revision(repo: Path | None = None) -> str:
-    """Commit hash of the checkout (with '+dirty' when it has changes), or 'unknown'."""
-    repo = repo or Path(__file__).resolve().parents[1]
+    """Commit hash of the checkout (with '+dirty' when it has changes), or 'unknown', as
+    at this process's first call: the code it runs was imported then, and a commit made
+    or a report written while it runs (a validation runs for hours) does not change that
+    code."""
+    repo = (repo or Path(__file__).resolve().parents[1]).resolve()
+    if repo not in _REVISIONS:
+        _REVISIONS[repo] = _read_revision(repo)
+    return _REVISIONS[repo]
+
+
+def _read_revision(repo: Path) -> str:
     try:
         rev = subprocess.run(["git", "-C", str(repo), "rev-parse", "--short", "HEAD"],
                              capture_output=True, text=True, timeout=5).stdout.strip()

@@ -16,6 +16,27 @@ def test_manifest_git_is_taken_at_start(tmp_path, monkeypatch):
     assert man["git"] == "aaaaaaa" and man["seed"] == 3 and man["particles"] == 10
 
 
+def test_a_process_keeps_the_revision_it_started_on(tmp_path):
+    """A validation that ran for an hour recorded, in the folders it opened after a
+    commit, the new commit rather than the code it had imported."""
+    import subprocess
+
+    def git(*args):
+        subprocess.run(["git", "-C", str(tmp_path), "-c", "user.name=t", "-c", "user.email=t@t", *args],
+                       check=True, capture_output=True)
+
+    git("init", "-q")
+    (tmp_path / "a.txt").write_text("1")
+    git("add", "a.txt")
+    git("commit", "-q", "-m", "first")
+    first = runfolder.git_revision(tmp_path)
+    (tmp_path / "a.txt").write_text("2")
+    git("commit", "-q", "-am", "second")
+    assert first != "unknown" and "+dirty" not in first
+    assert runfolder.git_revision(tmp_path) == first
+    assert runfolder._read_revision(tmp_path.resolve()) != first       # HEAD did move
+
+
 def test_manifest_keeps_the_machine_load_at_start_and_end(tmp_path, monkeypatch):
     """Wall times are only comparable with the load they ran under (a second job on the
     two cores slowed runs 2-3x): the manifest records the 1-min load average."""
