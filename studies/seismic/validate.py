@@ -457,7 +457,8 @@ def sum_order_lines(rep: dict) -> list[str]:
     a, b = block_sums(rep), other["contact_sums"]
     lines = ["", f"## How the results move with the order of sums: {a} vs {b} (git {other['git']})", "",
              "The same case and seed, each contact force the same to rounding, summed on each grain in another "
-             "order: another realization, so these changes are of the size of the seed scatter, not an effect.", ""]
+             "order: another realization of the deposit. Whether a change is larger than the seed scatter is "
+             "not read from one seed; the discussion sets it against several.", ""]
     for f, row in rows.items():
         lines += ["", f"{f} Hz:", "", f"| quantity | {a} | {b} | change |", "|---|---|---|---|"]
         for k in [k for k in KEYS if k != "wall_time_s"] + list(COMPARED_EXTRA):
