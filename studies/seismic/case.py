@@ -158,7 +158,8 @@ class SeismicCase:
     record_every: float = param(0.02, unit="s", lo=1e-3, hi=1, hi_open=True,
                                 meaning="time between readings of the dynamic stage, prototype (0.02)")
     # false by default: true is 1.04x faster (seismic_step_speed_direct_sums.json), but its static
-    # states stood with 1.4-2.3x the back thrust of the rows' in 3 seeds of 3 (seismic_discussion.md)
+    # states scatter 3x as widely as the rows' over six seeds (44-97 against 35-51 kN/m of back
+    # thrust), unexplained (seismic_discussion.md)
     direct_sums: bool = param(False, unit="", absent_means=False,
                               meaning="the contact pass adds each pair's force to both its spheres at once (true: "
                                       "4 % faster, sums in another order; not validated) or stores the second "
