@@ -157,9 +157,10 @@ class SeismicCase:
     # a reading (wall profiles, section forces) every ~40 steps at 1e-3 s, ~10^4 readings
     record_every: float = param(0.02, unit="s", lo=1e-3, hi=1, hi_open=True,
                                 meaning="time between readings of the dynamic stage, prototype (0.02)")
-    # false by default: true is 1.04x faster (seismic_step_speed_direct_sums.json), but its static
-    # states scatter 3x as widely as the rows' over six seeds (44-97 against 35-51 kN/m of back
-    # thrust), unexplained (seismic_discussion.md)
+    # false by default: true is 1.04x faster (seismic_step_speed_direct_sums.json), but the report's
+    # runs and pins are the rows'; over twelve seeds its static states stand where a 1e-12 m move
+    # of one grain puts the rows' (seismic_static_seeds.json), above the unmoved rows' (46 kN/m of
+    # back thrust against 61-69), unexplained (seismic_discussion.md)
     direct_sums: bool = param(False, unit="", absent_means=False,
                               meaning="the contact pass adds each pair's force to both its spheres at once (true: "
                                       "4 % faster, sums in another order; not validated) or stores the second "

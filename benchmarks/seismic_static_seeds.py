@@ -1,0 +1,107 @@
+"""Where the seismic model's preparation ends, seed by seed, in three arms: the default
+contact sums by rows ("rows"), the direct sums ("direct", ``SeismicCase.direct_sums``),
+and the rows with the first sphere of the first simulation (the rain) moved 1e-12 m
+along +x ("nudged") or -x ("nudged_minus") before its first step: a perturbation and
+nothing else, the control for the direct sums, whose forces equal the rows' to rounding.
+
+Each run prepares the coarse default case from scratch (``studies.seismic.run.prepare``,
+no cache: ~185 s of CPU on one thread), restores it as the shaking does
+(``coupled``), evaluates the forces once and reads the wall (``measures.wall_reading``):
+the back and front thrusts at the end of the static stage, prototype kN/m (model N/m x
+N / 1000 with N = 50). One JSON line per run.
+
+    NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/seismic_static_seeds.py run 7 nudged >> runs.jsonl
+    python benchmarks/seismic_static_seeds.py summary runs.jsonl [more.jsonl ...] --out seeds.json
+
+``summary`` groups the lines by arm: each arm's values by seed, mean, standard deviation,
+median, and for every pair of arms the Mann-Whitney U test (two-sided) and, over the seeds
+both ran, how many seeds stand higher in the second arm; the run lines follow as they are.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from itertools import combinations
+
+PROTOTYPE_KN_PER_MODEL_N = 50 / 1000.0      # N g = 50: model N/m -> prototype kN/m
+NUDGE_M = 1e-12
+ARMS = ("rows", "direct", "nudged", "nudged_minus")
+
+
+def nudge_first_simulation(dx: float) -> None:
+    """Move sphere 0 of the first Simulation built in this process by ``dx`` [m] along x."""
+    import dem3d.engine as engine
+    original = engine.Simulation.__init__
+    done = []
+
+    def init(self, *args, **kwargs):
+        original(self, *args, **kwargs)
+        if not done:
+            done.append(True)
+            self.spheres.x[0, 0] += dx
+    engine.Simulation.__init__ = init
+
+
+def run(seed: int, arm: str) -> dict:
+    from studies.seismic.case import SeismicCase
+    from studies.seismic.measures import wall_reading
+    from studies.seismic.run import coupled, prepare
+
+    if arm.startswith("nudged"):
+        nudge_first_simulation(-NUDGE_M if arm == "nudged_minus" else NUDGE_M)
+    case = SeismicCase(seed=seed, direct_sums=arm == "direct")
+    cpu = time.process_time()
+    prepared = prepare(case, None)
+    main, _, _, _ = coupled(case, prepared)
+    main.evaluate_forces()
+    reading = wall_reading(main, case, prepared.model)
+    return {"seed": seed, "arm": arm, "back_kN_m": reading.thrust_back * PROTOTYPE_KN_PER_MODEL_N,
+            "front_kN_m": reading.thrust_front * PROTOTYPE_KN_PER_MODEL_N,
+            "porosity": prepared.info["porosity"], "installed_steps": prepared.info["installed_steps"],
+            "cpu_s": time.process_time() - cpu}
+
+
+def summary(lines: list[dict]) -> dict:
+    import numpy as np
+    from scipy.stats import mannwhitneyu
+
+    by_arm = {a: {int(r["seed"]): float(r["back_kN_m"]) for r in lines if r["arm"] == a} for a in ARMS}
+    by_arm = {a: dict(sorted(v.items())) for a, v in by_arm.items() if v}
+    arms = {}
+    for a, values in by_arm.items():
+        v = np.array(list(values.values()))
+        arms[a] = {"back_kN_m_by_seed": values, "n": len(v), "mean": float(v.mean()),
+                   "sd": float(v.std(ddof=1)) if len(v) > 1 else None, "median": float(np.median(v))}
+    tests = []
+    for a, b in combinations(by_arm, 2):
+        u = mannwhitneyu(list(by_arm[a].values()), list(by_arm[b].values()), alternative="two-sided")
+        common = sorted(set(by_arm[a]) & set(by_arm[b]))
+        tests.append({"arms": [a, b], "mann_whitney_p": float(u.pvalue),
+                      "seeds_both": len(common),
+                      "seeds_second_higher": sum(by_arm[b][s] > by_arm[a][s] for s in common)})
+    return {"quantity": "back-face thrust at the end of the static stage, prototype kN/m",
+            "arms": arms, "tests": tests, "runs": lines}
+
+
+def main(argv: list[str]) -> None:
+    if len(argv) >= 3 and argv[0] == "run" and argv[2] in ARMS:
+        print(json.dumps(run(int(argv[1]), argv[2])), flush=True)
+        return
+    if len(argv) >= 2 and argv[0] == "summary":
+        out = argv[argv.index("--out") + 1] if "--out" in argv else None
+        files = [f for f in argv[1:] if f != "--out" and f != out]
+        lines = [json.loads(s) for f in files for s in open(f) if s.strip()]
+        result = summary(lines)
+        text = json.dumps(result, indent=1)
+        if out:
+            with open(out, "w") as fh:
+                fh.write(text + "\n")
+        print(text)
+        return
+    sys.exit("usage: seismic_static_seeds.py run SEED rows|direct|nudged|nudged_minus | summary FILE... [--out FILE]")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
