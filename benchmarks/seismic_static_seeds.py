@@ -2,7 +2,10 @@
 contact sums by rows ("rows"), the direct sums ("direct", ``SeismicCase.direct_sums``),
 and the rows with the first sphere of the first simulation (the rain) moved 1e-12 m
 along +x ("nudged") or -x ("nudged_minus") before its first step: a perturbation and
-nothing else, the control for the direct sums, whose forces equal the rows' to rounding.
+nothing else, the control for the direct sums, whose forces equal the rows' to rounding;
+"nudged_install": sphere 0 of the model with the wall installed (the third Simulation
+built: rain, the porosity reader, then this one) moved 1e-12 m along +x, so the rain is
+the default's bit for bit.
 
 Each run prepares the coarse default case from scratch (``studies.seismic.run.prepare``,
 no cache: ~185 s of CPU on one thread), restores it as the shaking does
@@ -27,20 +30,22 @@ from itertools import combinations
 
 PROTOTYPE_KN_PER_MODEL_N = 50 / 1000.0      # N g = 50: model N/m -> prototype kN/m
 NUDGE_M = 1e-12
-ARMS = ("rows", "direct", "nudged", "nudged_minus")
+ARMS = ("rows", "direct", "nudged", "nudged_minus", "nudged_install")
 
 
-def nudge_first_simulation(dx: float) -> None:
-    """Move sphere 0 of the first Simulation built in this process by ``dx`` [m] along x."""
+def nudge_simulation(dx: float, which: int = 0) -> None:
+    """Move sphere 0 of the ``which``-th Simulation built in this process (0: the first)
+    by ``dx`` [m] along x, once it is built."""
     import dem3d.engine as engine
     original = engine.Simulation.__init__
     done = []
 
     def init(self, *args, **kwargs):
         original(self, *args, **kwargs)
-        if not done:
-            done.append(True)
+        done.append(True)
+        if len(done) == which + 1:
             self.spheres.x[0, 0] += dx
+            print(f"nudged sphere 0 of Simulation {which} ({self.n_spheres} spheres)", file=sys.stderr)
     engine.Simulation.__init__ = init
 
 
@@ -50,7 +55,7 @@ def run(seed: int, arm: str) -> dict:
     from studies.seismic.run import coupled, prepare
 
     if arm.startswith("nudged"):
-        nudge_first_simulation(-NUDGE_M if arm == "nudged_minus" else NUDGE_M)
+        nudge_simulation(-NUDGE_M if arm == "nudged_minus" else NUDGE_M, 2 if arm == "nudged_install" else 0)
     case = SeismicCase(seed=seed, direct_sums=arm == "direct")
     cpu = time.process_time()
     prepared = prepare(case, None)
@@ -100,7 +105,7 @@ def main(argv: list[str]) -> None:
                 fh.write(text + "\n")
         print(text)
         return
-    sys.exit("usage: seismic_static_seeds.py run SEED rows|direct|nudged|nudged_minus | summary FILE... [--out FILE]")
+    sys.exit("usage: seismic_static_seeds.py run SEED rows|direct|nudged|nudged_minus|nudged_install | summary FILE... [--out FILE]")
 
 
 if __name__ == "__main__":
