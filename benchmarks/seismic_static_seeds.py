@@ -16,9 +16,18 @@ N / 1000 with N = 50). One JSON line per run.
     NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/seismic_static_seeds.py run 7 nudged >> runs.jsonl
     python benchmarks/seismic_static_seeds.py summary runs.jsonl [more.jsonl ...] --out seeds.json
 
+    PYTHONPATH=. python benchmarks/seismic_static_seeds.py lateral 1-12 >> lateral.jsonl
+
+``lateral`` reads the static states that the rows and direct runs left in the cache
+(runs/seismic/cache; ``run`` does not write it, ``prepare`` with a cache does) and prints,
+per seed and order of sums, sigma_xx / sigma_zz of vertical slices behind the wall (edges
+``LATERAL_EDGES`` from its back face, model m) and in front (two halves), Love-Weber
+(``dem3d.measure.slice_averages``), and sigma_xx behind [Pa, model].
+
 ``summary`` groups the lines by arm: each arm's values by seed, mean, standard deviation,
 median, and for every pair of arms the Mann-Whitney U test (two-sided) and, over the seeds
-both ran, how many seeds stand higher in the second arm; the run lines follow as they are.
+both ran, how many seeds stand higher in the second arm; the run lines and any ``lateral``
+lines follow as they are.
 """
 
 from __future__ import annotations
@@ -30,6 +39,7 @@ from itertools import combinations
 
 PROTOTYPE_KN_PER_MODEL_N = 50 / 1000.0      # N g = 50: model N/m -> prototype kN/m
 NUDGE_M = 1e-12
+LATERAL_EDGES = (0.0, 0.03, 0.06, 0.1, 0.2, 0.3, 0.38)
 ARMS = ("rows", "direct", "nudged", "nudged_minus", "nudged_install")
 
 
@@ -68,9 +78,33 @@ def run(seed: int, arm: str) -> dict:
             "cpu_s": time.process_time() - cpu}
 
 
-def summary(lines: list[dict]) -> dict:
+def lateral(seed: int, direct: bool) -> dict:
+    from pathlib import Path
+
+    import numpy as np
+
+    from dem3d.measure import slice_averages
+    from studies.seismic.case import SeismicCase
+    from studies.seismic.run import coupled, prepare
+
+    case = SeismicCase(seed=seed, direct_sums=direct)
+    prepared = prepare(case, Path("runs/seismic/cache"))
+    main, _, _, _ = coupled(case, prepared)
+    main.evaluate_forces()
+    behind = slice_averages(main, 2 * case.wall_ball + np.array(LATERAL_EDGES),
+                            case.retained_height * case.width, axis=0).stress
+    front = slice_averages(main, np.array([-case.front, -case.front / 2, 0.0]),
+                           case.front_height * case.width, axis=0).stress
+    return {"seed": seed, "direct": direct, "K_behind": (behind[:, 0, 0] / behind[:, 2, 2]).tolist(),
+            "K_front": (front[:, 0, 0] / front[:, 2, 2]).tolist(), "sxx_behind_Pa": (-behind[:, 0, 0]).tolist()}
+
+
+def summary(records: list[dict]) -> dict:
     import numpy as np
     from scipy.stats import mannwhitneyu
+
+    lines = [r for r in records if "arm" in r]
+    slices = [r for r in records if "K_behind" in r]
 
     by_arm = {a: {int(r["seed"]): float(r["back_kN_m"]) for r in lines if r["arm"] == a} for a in ARMS}
     by_arm = {a: dict(sorted(v.items())) for a, v in by_arm.items() if v}
@@ -87,12 +121,19 @@ def summary(lines: list[dict]) -> dict:
                       "seeds_both": len(common),
                       "seeds_second_higher": sum(by_arm[b][s] > by_arm[a][s] for s in common)})
     return {"quantity": "back-face thrust at the end of the static stage, prototype kN/m",
-            "arms": arms, "tests": tests, "runs": lines}
+            "arms": arms, "tests": tests, "runs": lines,
+            "lateral": {"edges_behind_m": list(LATERAL_EDGES), "states": slices} if slices else None}
 
 
 def main(argv: list[str]) -> None:
     if len(argv) >= 3 and argv[0] == "run" and argv[2] in ARMS:
         print(json.dumps(run(int(argv[1]), argv[2])), flush=True)
+        return
+    if len(argv) == 2 and argv[0] == "lateral":
+        first, last = (int(v) for v in argv[1].split("-"))
+        for direct in (False, True):
+            for seed in range(first, last + 1):
+                print(json.dumps(lateral(seed, direct)), flush=True)
         return
     if len(argv) >= 2 and argv[0] == "summary":
         out = argv[argv.index("--out") + 1] if "--out" in argv else None
@@ -105,7 +146,7 @@ def main(argv: list[str]) -> None:
                 fh.write(text + "\n")
         print(text)
         return
-    sys.exit("usage: seismic_static_seeds.py run SEED rows|direct|nudged|nudged_minus|nudged_install | summary FILE... [--out FILE]")
+    sys.exit("usage: seismic_static_seeds.py run SEED rows|direct|nudged|nudged_minus|nudged_install | lateral FIRST-LAST | summary FILE... [--out FILE]")
 
 
 if __name__ == "__main__":
