@@ -5,7 +5,8 @@ along +x ("nudged") or -x ("nudged_minus") before its first step: a perturbation
 nothing else, the control for the direct sums, whose forces equal the rows' to rounding;
 "nudged_install": sphere 0 of the model with the wall installed (the third Simulation
 built: rain, the porosity reader, then this one) moved 1e-12 m along +x, so the rain is
-the default's bit for bit.
+the default's bit for bit; "nudged_stiffen": sphere 0 of the rain moved 1e-12 m along +x
+when the rain has come to rest, as its stiffening begins (its first ``set_params``).
 
 Each run prepares the coarse default case from scratch (``studies.seismic.run.prepare``,
 no cache: ~185 s of CPU on one thread), restores it as the shaking does
@@ -40,7 +41,7 @@ from itertools import combinations
 PROTOTYPE_KN_PER_MODEL_N = 50 / 1000.0      # N g = 50: model N/m -> prototype kN/m
 NUDGE_M = 1e-12
 LATERAL_EDGES = (0.0, 0.03, 0.06, 0.1, 0.2, 0.3, 0.38)
-ARMS = ("rows", "direct", "nudged", "nudged_minus", "nudged_install")
+ARMS = ("rows", "direct", "nudged", "nudged_minus", "nudged_install", "nudged_stiffen")
 
 
 def nudge_simulation(dx: float, which: int = 0) -> None:
@@ -59,12 +60,30 @@ def nudge_simulation(dx: float, which: int = 0) -> None:
     engine.Simulation.__init__ = init
 
 
+def nudge_at_stiffening(dx: float) -> None:
+    """Move sphere 0 of the first Simulation built by ``dx`` [m] along x at its first
+    ``set_params`` (the rain's stiffening, ``specimen.rain_deposit``)."""
+    import dem3d.engine as engine
+    original = engine.Simulation.set_params
+    done = []
+
+    def set_params(self, *args, **kwargs):
+        if not done:
+            done.append(True)
+            self.spheres.x[0, 0] += dx
+            print(f"nudged sphere 0 at t = {self.time:.5f} s ({self.n_spheres} spheres)", file=sys.stderr)
+        return original(self, *args, **kwargs)
+    engine.Simulation.set_params = set_params
+
+
 def run(seed: int, arm: str) -> dict:
     from studies.seismic.case import SeismicCase
     from studies.seismic.measures import wall_reading
     from studies.seismic.run import coupled, prepare
 
-    if arm.startswith("nudged"):
+    if arm == "nudged_stiffen":
+        nudge_at_stiffening(NUDGE_M)
+    elif arm.startswith("nudged"):
         nudge_simulation(-NUDGE_M if arm == "nudged_minus" else NUDGE_M, 2 if arm == "nudged_install" else 0)
     case = SeismicCase(seed=seed, direct_sums=arm == "direct")
     cpu = time.process_time()
@@ -146,7 +165,7 @@ def main(argv: list[str]) -> None:
                 fh.write(text + "\n")
         print(text)
         return
-    sys.exit("usage: seismic_static_seeds.py run SEED rows|direct|nudged|nudged_minus|nudged_install | lateral FIRST-LAST | summary FILE... [--out FILE]")
+    sys.exit("usage: seismic_static_seeds.py run SEED rows|direct|nudged|nudged_minus|nudged_install|nudged_stiffen | lateral FIRST-LAST | summary FILE... [--out FILE]")
 
 
 if __name__ == "__main__":
