@@ -160,7 +160,7 @@ class SeismicCase:
     # false by default: true is 1.04x faster (seismic_step_speed_direct_sums.json), but the report's
     # runs and pins are the rows'; over twelve seeds its static states stand where a 1e-12 m move
     # of one grain puts the rows' (seismic_static_seeds.json), above the unmoved rows' (46 kN/m of
-    # back thrust against 56-69 when the rain is perturbed), unexplained (seismic_discussion.md)
+    # back thrust against 56-69 when perturbed before the fall), unexplained (seismic_discussion.md)
     direct_sums: bool = param(False, unit="", absent_means=False,
                               meaning="the contact pass adds each pair's force to both its spheres at once (true: "
                                       "4 % faster, sums in another order; not validated) or stores the second "
