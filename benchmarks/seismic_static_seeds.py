@@ -12,7 +12,7 @@ Each run prepares the coarse default case from scratch (``studies.seismic.run.pr
 no cache: ~185 s of CPU on one thread), restores it as the shaking does
 (``coupled``), evaluates the forces once and reads the wall (``measures.wall_reading``):
 the back and front thrusts at the end of the static stage, prototype kN/m (model N/m x
-N / 1000 with N = 50). One JSON line per run.
+N / 1000, N = ``case.scale_N``). One JSON line per run.
 
     NUMBA_NUM_THREADS=1 PYTHONPATH=. python benchmarks/seismic_static_seeds.py run 7 nudged >> runs.jsonl
     python benchmarks/seismic_static_seeds.py summary runs.jsonl [more.jsonl ...] --out seeds.json
@@ -38,7 +38,6 @@ import sys
 import time
 from itertools import combinations
 
-PROTOTYPE_KN_PER_MODEL_N = 50 / 1000.0      # N g = 50: model N/m -> prototype kN/m
 NUDGE_M = 1e-12
 LATERAL_EDGES = (0.0, 0.03, 0.06, 0.1, 0.2, 0.3, 0.38)
 ARMS = ("rows", "direct", "nudged", "nudged_minus", "nudged_install", "nudged_stiffen")
@@ -91,8 +90,9 @@ def run(seed: int, arm: str) -> dict:
     main, _, _, _ = coupled(case, prepared)
     main.evaluate_forces()
     reading = wall_reading(main, case, prepared.model)
-    return {"seed": seed, "arm": arm, "back_kN_m": reading.thrust_back * PROTOTYPE_KN_PER_MODEL_N,
-            "front_kN_m": reading.thrust_front * PROTOTYPE_KN_PER_MODEL_N,
+    to_prototype = case.scale_N / 1000.0        # model N/m -> prototype kN/m (as compare.py)
+    return {"seed": seed, "arm": arm, "back_kN_m": reading.thrust_back * to_prototype,
+            "front_kN_m": reading.thrust_front * to_prototype,
             "porosity": prepared.info["porosity"], "installed_steps": prepared.info["installed_steps"],
             "cpu_s": time.process_time() - cpu}
 
